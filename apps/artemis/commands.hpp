@@ -1,0 +1,10 @@
+#pragma once
+// Subcommands of the artemis CLI. Each adds itself to the app; its callback stores the exit code.
+
+#include <CLI/CLI.hpp>
+
+namespace artemis::cli {
+
+void addDatasetCommands(CLI::App& app, int& exit_code);
+
+}  // namespace artemis::cli

@@ -1,0 +1,69 @@
+#include "dataset_flags.hpp"
+
+#include <cstdlib>
+
+#include "artemis/core/log.hpp"
+#include "artemis/datasets/pose_file.hpp"
+
+namespace artemis::cli {
+
+std::filesystem::path defaultDataDir() {
+  if (const char* env = std::getenv("ARTEMIS_DATA_DIR"); env != nullptr && *env != '\0') return env;
+  return "../shared/data";
+}
+
+void DatasetFlags::addTo(CLI::App& app, bool with_poses) {
+  app.add_option("path", path,
+                 "Recording folder: a KITTI raw drive (or its date folder), a KITTI odometry root or "
+                 "sequences/NN folder [default: $ARTEMIS_DATA_DIR/kitti_raw, ARTEMIS_DATA_DIR defaulting "
+                 "to ../shared/data]");
+  app.add_option("--format", format, "Dataset format: auto, kitti-raw, kitti-odometry")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"auto", "kitti-raw", "kitti-odometry"}));
+  app.add_option("--frames", frames,
+                 "Frame range a:b (half-open: frames a..b-1), a: (to the end), :b, or a single frame "
+                 "[default: all]");
+  app.add_option("--min-range", min_range_m, "Range gate: drop points closer than this (m)")
+      ->capture_default_str();
+  app.add_option("--max-range", max_range_m, "Range gate: drop points farther than this (m)")
+      ->capture_default_str();
+  app.add_flag("--vertical-correction", vertical_correction,
+               "Raise each KITTI HDL-64 point's elevation by 0.205 deg (the usual KITTI scan correction)");
+  app.add_option("--sequence", sequence, "KITTI odometry: sequence NN to read when PATH is the root")
+      ->capture_default_str();
+  if (with_poses) {
+    app.add_option("--poses", poses,
+                   "Replace the recording's poses with this file: one T_W_L per recording frame, 12 "
+                   "numbers a line (row-major 3x4)");
+  }
+}
+
+Result<std::unique_ptr<datasets::Dataset>> DatasetFlags::open(bool load_images) const {
+  datasets::DatasetOptions options;
+  if (!frames.empty()) {
+    auto range = datasets::FrameRange::parse(frames);
+    if (!range) return range.status();
+    options.frames = *range;
+  }
+  options.min_range_m = min_range_m;
+  options.max_range_m = max_range_m;
+  options.vertical_angle_correction = vertical_correction;
+  options.sequence = sequence;
+  options.load_images = load_images;
+  auto format_id = datasets::parseDatasetFormat(format);
+  if (!format_id) return format_id.status();
+  const std::filesystem::path where = path.empty() ? defaultDataDir() / "kitti_raw" : std::filesystem::path(path);
+  auto dataset = datasets::openDataset(where, *format_id, options);
+  if (!dataset) return dataset.status();
+  if (!poses.empty()) {
+    auto T_W_L = datasets::readPoseFile(poses);
+    if (!T_W_L) return T_W_L.status();
+    if (Status s = (*dataset)->setPoses(std::move(T_W_L.value())); !s.isOk()) {
+      return invalidArgument(poses + ": " + s.message());
+    }
+    log::info("poses from {}", poses);
+  }
+  return dataset;
+}
+
+}  // namespace artemis::cli

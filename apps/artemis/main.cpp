@@ -1,0 +1,42 @@
+// artemis: the command-line program. Flags are parsed here and only here.
+#include <CLI/CLI.hpp>
+#include <fmt/format.h>
+
+#include <exception>
+
+#include "artemis/core/log.hpp"
+#include "commands.hpp"
+
+int main(int argc, char** argv) {
+  CLI::App app{
+      "ARTEMIS: textured, semantically queryable triangle meshes from LiDAR + camera recordings.\n"
+      "Logs go to stderr; results and --json output to stdout."};
+  app.set_version_flag("--version", "artemis 0.1.0");
+  app.require_subcommand(1);
+  std::string log_level = "info";
+  app.add_option("--log-level", log_level, "debug, info, warn, error or off")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"debug", "info", "warn", "error", "off"}));
+  app.parse_complete_callback([&] {
+    using artemis::log::Level;
+    const Level level = log_level == "debug" ? Level::kDebug
+                        : log_level == "warn"  ? Level::kWarn
+                        : log_level == "error" ? Level::kError
+                        : log_level == "off"   ? Level::kOff
+                                               : Level::kInfo;
+    artemis::log::setLevel(level);
+  });
+
+  int exit_code = 0;
+  artemis::cli::addDatasetCommands(app, exit_code);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::ParseError& e) {
+    return app.exit(e);
+  } catch (const std::exception& e) {
+    artemis::log::error("{}", e.what());
+    return 1;
+  }
+  return exit_code;
+}

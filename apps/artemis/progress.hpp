@@ -1,0 +1,36 @@
+#pragma once
+// A progress line on stderr for anything that takes more than a second: "label 23/50 (46%) 18.2/s".
+// On a terminal the line is redrawn in place; otherwise a line is printed every few seconds.
+
+#include <cstddef>
+#include <string>
+
+#include "artemis/core/timer.hpp"
+
+namespace artemis::cli {
+
+class ProgressLine {
+ public:
+  ProgressLine(std::string label, std::string unit);
+  ~ProgressLine();
+  ProgressLine(const ProgressLine&) = delete;
+  ProgressLine& operator=(const ProgressLine&) = delete;
+
+  void update(std::size_t done, std::size_t total);
+  void finish();
+
+ private:
+  void print(std::size_t done, std::size_t total, bool final_line);
+
+  std::string label_;
+  std::string unit_;
+  Stopwatch clock_;
+  double last_print_s_ = -1.0;
+  bool tty_ = false;
+  bool printed_ = false;
+  bool finished_ = false;
+  std::size_t done_ = 0;
+  std::size_t total_ = 0;
+};
+
+}  // namespace artemis::cli

@@ -1,0 +1,19 @@
+#pragma once
+// KITTI odometry layout: sequences/NN/{velodyne, image_2 (optional), labels (optional, SemanticKITTI),
+// calib.txt, times.txt}, poses/NN.txt (camera-0 poses; T_W_L = inv(Tr) * P * Tr). The simulator
+// writes this layout too.
+
+#include <filesystem>
+#include <memory>
+
+#include "artemis/datasets/dataset.hpp"
+
+namespace artemis::datasets {
+
+// `path` is the root (holding sequences/ and poses/; options.sequence picks NN) or sequences/NN.
+Result<std::unique_ptr<Dataset>> openKittiOdometry(const std::filesystem::path& path,
+                                                   const DatasetOptions& options);
+
+bool looksLikeKittiOdometry(const std::filesystem::path& path);
+
+}  // namespace artemis::datasets

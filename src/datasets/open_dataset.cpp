@@ -1,0 +1,27 @@
+#include <fmt/format.h>
+
+#include "artemis/datasets/dataset.hpp"
+#include "artemis/datasets/kitti_odometry.hpp"
+#include "artemis/datasets/kitti_raw.hpp"
+
+namespace artemis::datasets {
+
+Result<std::unique_ptr<Dataset>> openDataset(const std::filesystem::path& path, DatasetFormat format,
+                                             const DatasetOptions& options) {
+  if (!std::filesystem::exists(path)) return notFound(fmt::format("{}: no such folder", path.string()));
+  if (options.min_range_m < 0.0 || !(options.max_range_m > options.min_range_m)) {
+    return invalidArgument(fmt::format("range gate {}-{} m is empty", options.min_range_m, options.max_range_m));
+  }
+  switch (format) {
+    case DatasetFormat::kKittiRaw: return openKittiRaw(path, options);
+    case DatasetFormat::kKittiOdometry: return openKittiOdometry(path, options);
+    case DatasetFormat::kAuto: break;
+  }
+  if (looksLikeKittiRaw(path)) return openKittiRaw(path, options);
+  if (looksLikeKittiOdometry(path)) return openKittiOdometry(path, options);
+  return notFound(fmt::format("{}: not a recognised dataset (KITTI raw: a drive folder with velodyne_points/ "
+                              "or its date folder; KITTI odometry: a folder with sequences/ or velodyne/)",
+                              path.string()));
+}
+
+}  // namespace artemis::datasets

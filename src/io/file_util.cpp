@@ -1,0 +1,101 @@
+#include "file_util.hpp"
+
+#include <unistd.h>
+
+#include <atomic>
+#include <cerrno>
+#include <cstring>
+#include <system_error>
+
+namespace artemis::io::detail {
+
+namespace {
+
+std::string errnoText() { return std::strerror(errno); }
+
+// Unique within the process (counter) and across processes (pid): two writers of the same
+// target never share a temporary file.
+std::filesystem::path tempPathFor(const std::filesystem::path& target) {
+  static std::atomic<unsigned> counter{0};
+  auto name = "." + target.filename().string() + ".tmp-" + std::to_string(::getpid()) + "-" +
+              std::to_string(counter.fetch_add(1));
+  return target.parent_path() / name;
+}
+
+}  // namespace
+
+Result<std::vector<unsigned char>> readFileBytes(const std::filesystem::path& path) {
+  const std::string name = path.string();
+  std::error_code ec;
+  const auto status = std::filesystem::status(path, ec);
+  if (!std::filesystem::exists(status)) return notFound(name + ": no such file");
+  if (std::filesystem::is_directory(status)) return ioError(name + ": is a directory, not a file");
+
+  std::FILE* file = std::fopen(name.c_str(), "rb");
+  if (file == nullptr) return ioError(name + ": cannot open: " + errnoText());
+  // Read up to one byte past the reported size, then on in large blocks until EOF: the size
+  // is a hint, and the file may grow or shrink under us.
+  constexpr std::size_t kBlock = std::size_t{1} << 24;
+  const auto size_hint = std::filesystem::file_size(path, ec);
+  std::size_t chunk = ec ? kBlock : static_cast<std::size_t>(size_hint) + 1;
+  std::vector<unsigned char> bytes;
+  std::size_t used = 0;
+  for (;;) {
+    bytes.resize(used + chunk);
+    const std::size_t got = std::fread(bytes.data() + used, 1, chunk, file);
+    used += got;
+    if (got < chunk) break;
+    chunk = kBlock;
+  }
+  const bool failed = std::ferror(file) != 0;
+  std::fclose(file);
+  bytes.resize(used);
+  if (failed) return ioError(name + ": read failed");
+  return bytes;
+}
+
+AtomicFile::~AtomicFile() {
+  if (file_ != nullptr) std::fclose(file_);
+  if (!temp_.empty()) {
+    std::error_code ec;
+    std::filesystem::remove(temp_, ec);
+  }
+}
+
+Status AtomicFile::open(const std::filesystem::path& target) {
+  target_ = target;
+  temp_ = tempPathFor(target);
+  file_ = std::fopen(temp_.string().c_str(), "wb");
+  if (file_ == nullptr) {
+    const auto why = errnoText();
+    const auto temp_name = temp_.filename().string();
+    temp_.clear();
+    return ioError(target.string() + ": cannot create " + temp_name + ": " + why);
+  }
+  return Status::ok();
+}
+
+Status AtomicFile::write(const void* data, std::size_t size) {
+  if (file_ == nullptr) return ioError(target_.string() + ": write to a file that is not open");
+  if (size != 0 && std::fwrite(data, 1, size, file_) != size) return writeError();
+  return Status::ok();
+}
+
+Status AtomicFile::writeError() { return ioError(target_.string() + ": write failed: " + errnoText()); }
+
+Status AtomicFile::commit() {
+  if (file_ == nullptr) return ioError(target_.string() + ": commit of a file that is not open");
+  // Flush and sync before the rename, so that the name never points at data still in flight.
+  const bool flushed = std::fflush(file_) == 0 && ::fsync(::fileno(file_)) == 0;
+  const auto why = errnoText();
+  const bool closed = std::fclose(file_) == 0;
+  file_ = nullptr;
+  if (!flushed || !closed) return ioError(target_.string() + ": write failed: " + why);
+  std::error_code ec;
+  std::filesystem::rename(temp_, target_, ec);
+  if (ec) return ioError(target_.string() + ": cannot rename temporary file into place: " + ec.message());
+  temp_.clear();
+  return Status::ok();
+}
+
+}  // namespace artemis::io::detail

@@ -1,0 +1,125 @@
+// The artemis CLI as a user runs it: exit codes, --json output, files written.
+#include <gtest/gtest.h>
+
+#include <array>
+#include <cstdio>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "artemis/io/ply.hpp"
+#include "support/test_support.hpp"
+
+namespace artemis {
+namespace {
+
+struct RunResult {
+  int exit_code = -1;
+  std::string out;
+  std::string err;
+};
+
+RunResult run(const std::string& args) {
+  test::TempDir tmp;
+  const std::string cmd = std::string(ARTEMIS_CLI_PATH) + " " + args + " 2>" + (tmp / "stderr").string();
+  RunResult r;
+  FILE* pipe = popen(cmd.c_str(), "r");
+  if (pipe == nullptr) return r;
+  std::array<char, 4096> buf{};
+  std::size_t n = 0;
+  while ((n = fread(buf.data(), 1, buf.size(), pipe)) > 0) r.out.append(buf.data(), n);
+  const int status = pclose(pipe);
+  r.exit_code = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  std::ifstream err(tmp / "stderr");
+  std::stringstream ss;
+  ss << err.rdbuf();
+  r.err = ss.str();
+  return r;
+}
+
+std::string rawPath() { return (test::dataDir() / "kitti_raw").string(); }
+
+TEST(Cli, HelpExplainsTheSubcommands) {
+  const auto r = run("dataset info --help");
+  EXPECT_EQ(r.exit_code, 0);
+  for (const char* option : {"--frames", "--min-range", "--max-range", "--vertical-correction", "--json", "--poses"}) {
+    EXPECT_NE(r.out.find(option), std::string::npos) << option;
+  }
+  EXPECT_NE(run("--help").out.find("dataset"), std::string::npos);
+}
+
+TEST(Cli, DatasetInfoJsonOnKittiRaw) {
+  ARTEMIS_REQUIRE_DATA("kitti_raw");
+  const auto r = run("dataset info " + rawPath() + " --json");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = nlohmann::json::parse(r.out);
+  EXPECT_EQ(j["format"], "kitti-raw");
+  EXPECT_EQ(j["frames"], 50);
+  EXPECT_GT(j["points_per_frame"]["min"].get<int>(), 100000);
+  EXPECT_GE(j["points_per_frame"]["median"].get<int>(), j["points_per_frame"]["min"].get<int>());
+  EXPECT_LT(j["points_per_frame"]["max"].get<int>(), 140000);
+  EXPECT_EQ(j["image_size"], nlohmann::json::array({1242, 375}));
+  // 49 steps of 1.0-1.5 m.
+  EXPECT_GT(j["path_length_m"].get<double>(), 49.0);
+  EXPECT_LT(j["path_length_m"].get<double>(), 73.5);
+  EXPECT_NEAR(j["projected_share"].get<double>(), 0.15, 0.02);
+}
+
+TEST(Cli, ExportCloudWritesAReadablePly) {
+  ARTEMIS_REQUIRE_DATA("kitti_raw");
+  test::TempDir tmp;
+  const auto out = (tmp / "cloud.ply").string();
+  const auto r = run("dataset export-cloud " + rawPath() + " --frames 0:5 --voxel 0.2 -o " + out);
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  auto ply = io::readPly(out);
+  ASSERT_TRUE(ply.isOk()) << ply.status().toString();
+  auto x = ply->scalarAs<float>("vertex", "x");
+  auto z = ply->scalarAs<float>("vertex", "z");
+  ASSERT_TRUE(x.isOk());
+  ASSERT_TRUE(z.isOk());
+  ASSERT_TRUE(ply->scalarAs<float>("vertex", "intensity").isOk());
+  // 5 scans of ~115k points on a 0.2 m grid: tens of thousands of voxels, within 70 m + 6 m driven.
+  EXPECT_GT(x->size(), 20000u);
+  EXPECT_LT(x->size(), 300000u);
+  for (std::size_t i = 0; i < x->size(); ++i) {
+    ASSERT_LT(std::abs((*x)[i]), 80.0f);
+    ASSERT_LT(std::abs((*z)[i]), 40.0f);
+  }
+  // A finer grid keeps more points.
+  const auto fine = (tmp / "fine.ply").string();
+  ASSERT_EQ(run("dataset export-cloud " + rawPath() + " --frames 0:5 --voxel 0.1 -o " + fine).exit_code, 0);
+  EXPECT_GT(io::readPly(fine)->find("vertex")->count, x->size());
+}
+
+TEST(Cli, ErrorsNameTheProblem) {
+  const auto missing = run("dataset info /nonexistent/recording");
+  EXPECT_EQ(missing.exit_code, 1);
+  EXPECT_NE(missing.err.find("/nonexistent/recording"), std::string::npos) << missing.err;
+
+  ARTEMIS_REQUIRE_DATA("kitti_raw");
+  const auto range = run("dataset info " + rawPath() + " --frames 10:60");
+  EXPECT_EQ(range.exit_code, 1);
+  EXPECT_NE(range.err.find("out of bounds"), std::string::npos) << range.err;
+
+  test::TempDir tmp;
+  std::ofstream(tmp / "poses.txt") << "1 0 0 0 0 1 0 0 0 0 1 0\n";
+  const auto poses = run("dataset info " + rawPath() + " --poses " + (tmp / "poses.txt").string());
+  EXPECT_EQ(poses.exit_code, 1);
+  EXPECT_NE(poses.err.find("1 poses given for a recording of 50 frames"), std::string::npos) << poses.err;
+}
+
+TEST(Cli, ReferencePosesReplaceOxts) {
+  ARTEMIS_REQUIRE_DATA("kitti_raw/reference_poses.txt");
+  const auto r = run("dataset info " + rawPath() + " --json --poses " +
+                     (test::dataDir() / "kitti_raw/reference_poses.txt").string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto oxts = nlohmann::json::parse(run("dataset info " + rawPath() + " --json").out);
+  const auto ref = nlohmann::json::parse(r.out);
+  // Same drive, same ~1.2 m steps: path lengths within 5 %, but not identical numbers.
+  EXPECT_NEAR(ref["path_length_m"].get<double>(), oxts["path_length_m"].get<double>(),
+              0.05 * oxts["path_length_m"].get<double>());
+  EXPECT_NE(ref["path_length_m"].get<double>(), oxts["path_length_m"].get<double>());
+}
+
+}  // namespace
+}  // namespace artemis
