@@ -11,14 +11,20 @@ namespace artemis::io::detail {
 
 namespace {
 
-std::string errnoText() { return std::strerror(errno); }
+std::string errnoText() {
+  return std::strerror(errno);
+}
 
 // Unique within the process (counter) and across processes (pid): two writers of the same
 // target never share a temporary file.
 std::filesystem::path tempPathFor(const std::filesystem::path& target) {
   static std::atomic<unsigned> counter{0};
-  auto name = "." + target.filename().string() + ".tmp-" + std::to_string(::getpid()) + "-" +
-              std::to_string(counter.fetch_add(1));
+  std::string name(".");
+  name.append(target.filename().string());
+  name.append(".tmp-");
+  name.append(std::to_string(::getpid()));
+  name.push_back('-');
+  name.append(std::to_string(counter.fetch_add(1)));
   return target.parent_path() / name;
 }
 
@@ -81,7 +87,9 @@ Status AtomicFile::write(const void* data, std::size_t size) {
   return Status::ok();
 }
 
-Status AtomicFile::writeError() { return ioError(target_.string() + ": write failed: " + errnoText()); }
+Status AtomicFile::writeError() {
+  return ioError(target_.string() + ": write failed: " + errnoText());
+}
 
 Status AtomicFile::commit() {
   if (file_ == nullptr) return ioError(target_.string() + ": commit of a file that is not open");
