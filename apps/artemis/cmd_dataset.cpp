@@ -31,18 +31,18 @@ nlohmann::ordered_json toJson(const datasets::DatasetSummary& s) {
     return nlohmann::ordered_json{{"min", c.min}, {"median", c.median}, {"max", c.max}};
   };
   return nlohmann::ordered_json{{"format", s.format},
-          {"path", s.root},
-          {"frames", s.frames},
-          {"frames_failed", s.frames_failed},
-          {"points_per_frame", counts(s.points_per_frame)},
-          {"gated_points_per_frame", counts(s.gated_points_per_frame)},
-          {"image_size", nlohmann::ordered_json::array({s.image_width, s.image_height})},
-          {"path_length_m", s.path_length_m},
-          {"projected_share", s.projected_share},
-          {"missing_images", s.missing_images},
-          {"non_finite_points", s.non_finite_points},
-          {"has_poses", s.has_poses},
-          {"errors", s.errors}};
+                                {"path", s.root},
+                                {"frames", s.frames},
+                                {"frames_failed", s.frames_failed},
+                                {"points_per_frame", counts(s.points_per_frame)},
+                                {"gated_points_per_frame", counts(s.gated_points_per_frame)},
+                                {"image_size", nlohmann::ordered_json::array({s.image_width, s.image_height})},
+                                {"path_length_m", s.path_length_m},
+                                {"projected_share", s.projected_share},
+                                {"missing_images", s.missing_images},
+                                {"non_finite_points", s.non_finite_points},
+                                {"has_poses", s.has_poses},
+                                {"errors", s.errors}};
 }
 
 void printSummary(const datasets::DatasetSummary& s) {
@@ -73,9 +73,8 @@ int runInfo(const InfoFlags& flags) {
     return 1;
   }
   ProgressLine progress("reading", "frames");
-  const auto summary = datasets::summarizeDataset(**dataset, [&](std::size_t d, std::size_t t) {
-    progress.update(d, t);
-  });
+  const auto summary =
+      datasets::summarizeDataset(**dataset, [&](std::size_t d, std::size_t t) { progress.update(d, t); });
   progress.finish();
   if (flags.json) {
     fmt::print("{}\n", toJson(summary).dump(2));
@@ -97,9 +96,8 @@ int runExportCloud(const ExportFlags& flags) {
   }
   Stopwatch clock;
   ProgressLine progress("aggregating", "frames");
-  const auto result = datasets::aggregateScans(**dataset, flags.voxel_m, [&](std::size_t d, std::size_t t) {
-    progress.update(d, t);
-  });
+  const auto result =
+      datasets::aggregateScans(**dataset, flags.voxel_m, [&](std::size_t d, std::size_t t) { progress.update(d, t); });
   progress.finish();
   if (result.frames_used == 0) {
     log::error("no frame could be read; nothing written");
@@ -128,8 +126,8 @@ int runExportCloud(const ExportFlags& flags) {
     log::error("{}", s.message());
     return 1;
   }
-  log::info("{}: {} points from {} frames ({} points before the {} m voxel grid), {:.1f} s", flags.output,
-            cloud.size(), result.frames_used, result.points_in, flags.voxel_m, clock.elapsedS());
+  log::info("{}: {} points from {} frames ({} points before the {} m voxel grid), {:.1f} s", flags.output, cloud.size(),
+            result.frames_used, result.points_in, flags.voxel_m, clock.elapsedS());
   if (!result.errors.empty()) log::warn("{} frames skipped (see above)", result.errors.size());
   return 0;
 }

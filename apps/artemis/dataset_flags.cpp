@@ -23,10 +23,8 @@ void DatasetFlags::addTo(CLI::App& app, bool with_poses) {
   app.add_option("--frames", frames,
                  "Frame range a:b (half-open: frames a..b-1), a: (to the end), :b, or a single frame "
                  "[default: all]");
-  app.add_option("--min-range", min_range_m, "Range gate: drop points closer than this (m)")
-      ->capture_default_str();
-  app.add_option("--max-range", max_range_m, "Range gate: drop points farther than this (m)")
-      ->capture_default_str();
+  app.add_option("--min-range", min_range_m, "Range gate: drop points closer than this (m)")->capture_default_str();
+  app.add_option("--max-range", max_range_m, "Range gate: drop points farther than this (m)")->capture_default_str();
   app.add_flag("--vertical-correction", vertical_correction,
                "Raise each KITTI HDL-64 point's elevation by 0.205 deg (the usual KITTI scan correction)");
   app.add_option("--sequence", sequence, "KITTI odometry: sequence NN to read when PATH is the root")

@@ -1,6 +1,6 @@
 // artemis: the command-line program. Flags are parsed here and only here.
-#include <CLI/CLI.hpp>
 #include <fmt/format.h>
+#include <CLI/CLI.hpp>
 
 #include <exception>
 
@@ -19,7 +19,7 @@ int main(int argc, char** argv) {
       ->check(CLI::IsMember({"debug", "info", "warn", "error", "off"}));
   app.parse_complete_callback([&] {
     using artemis::log::Level;
-    const Level level = log_level == "debug" ? Level::kDebug
+    const Level level = log_level == "debug"   ? Level::kDebug
                         : log_level == "warn"  ? Level::kWarn
                         : log_level == "error" ? Level::kError
                         : log_level == "off"   ? Level::kOff

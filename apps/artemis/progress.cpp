@@ -8,7 +8,7 @@
 namespace artemis::cli {
 
 namespace {
-constexpr double kQuietStartS = 1.0;      // nothing is printed for work shorter than this
+constexpr double kQuietStartS = 1.0;  // nothing is printed for work shorter than this
 constexpr double kTtyIntervalS = 0.2;
 constexpr double kLogIntervalS = 5.0;
 }  // namespace
@@ -16,7 +16,9 @@ constexpr double kLogIntervalS = 5.0;
 ProgressLine::ProgressLine(std::string label, std::string unit)
     : label_(std::move(label)), unit_(std::move(unit)), tty_(isatty(fileno(stderr)) != 0) {}
 
-ProgressLine::~ProgressLine() { finish(); }
+ProgressLine::~ProgressLine() {
+  finish();
+}
 
 void ProgressLine::update(std::size_t done, std::size_t total) {
   done_ = done;
@@ -38,8 +40,7 @@ void ProgressLine::print(std::size_t done, std::size_t total, bool final_line) {
   const double t = clock_.elapsedS();
   const double rate = t > 0.0 ? static_cast<double>(done) / t : 0.0;
   const double pct = total > 0 ? 100.0 * static_cast<double>(done) / static_cast<double>(total) : 0.0;
-  std::string line = fmt::format("{} {}/{} ({:.0f}%) {:.1f} {}/s, {:.1f} s", label_, done, total, pct, rate,
-                                 unit_, t);
+  std::string line = fmt::format("{} {}/{} ({:.0f}%) {:.1f} {}/s, {:.1f} s", label_, done, total, pct, rate, unit_, t);
   if (tty_) {
     fmt::print(stderr, "\r\033[K{}{}", line, final_line ? "\n" : "");
   } else {

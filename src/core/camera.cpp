@@ -15,8 +15,7 @@ std::optional<Eigen::Vector2d> PinholeCamera::project(const Eigen::Vector3d& p_C
 }
 
 bool PinholeCamera::inImage(const Eigen::Vector2d& uv_px) const {
-  return uv_px.x() >= -0.5 && uv_px.y() >= -0.5 && uv_px.x() < width_px - 0.5 &&
-         uv_px.y() < height_px - 0.5;
+  return uv_px.x() >= -0.5 && uv_px.y() >= -0.5 && uv_px.x() < width_px - 0.5 && uv_px.y() < height_px - 0.5;
 }
 
 }  // namespace artemis

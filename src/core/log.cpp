@@ -23,8 +23,12 @@ spdlog::logger& logger() {
 
 }  // namespace
 
-void setLevel(Level level) { g_level = level; }
-Level level() { return g_level; }
+void setLevel(Level level) {
+  g_level = level;
+}
+Level level() {
+  return g_level;
+}
 
 void write(Level level, std::string_view message) {
   if (level < g_level.load() || level == Level::kOff) return;

@@ -21,8 +21,7 @@ void PointCloud::resizeAll(std::size_t n) {
 }
 
 bool PointCloud::consistent() const {
-  return (intensity.empty() || intensity.size() == points.size()) &&
-         (labels.empty() || labels.size() == points.size());
+  return (intensity.empty() || intensity.size() == points.size()) && (labels.empty() || labels.size() == points.size());
 }
 
 void PointCloud::append(const PointCloud& other, const Isometry3d& T_this_other) {

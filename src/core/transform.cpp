@@ -1,12 +1,11 @@
 #include "artemis/core/transform.hpp"
 
-#include <cmath>
 #include <fmt/format.h>
+#include <cmath>
 
 namespace artemis {
 
-Result<Isometry3d> isometryFromRt(const Eigen::Matrix3d& R, const Eigen::Vector3d& t,
-                                  double orthonormality_tolerance) {
+Result<Isometry3d> isometryFromRt(const Eigen::Matrix3d& R, const Eigen::Vector3d& t, double orthonormality_tolerance) {
   if (!R.allFinite() || !t.allFinite()) return parseError("transform has non-finite entries");
   const double err = (R.transpose() * R - Eigen::Matrix3d::Identity()).cwiseAbs().maxCoeff();
   if (err > orthonormality_tolerance) {
@@ -21,8 +20,7 @@ Result<Isometry3d> isometryFromRt(const Eigen::Matrix3d& R, const Eigen::Vector3
   return T;
 }
 
-Result<Isometry3d> isometryFromRowMajor3x4(std::span<const double> values,
-                                           double orthonormality_tolerance) {
+Result<Isometry3d> isometryFromRowMajor3x4(std::span<const double> values, double orthonormality_tolerance) {
   if (values.size() != 12) {
     return parseError(fmt::format("a pose needs 12 numbers, got {}", values.size()));
   }

@@ -11,7 +11,9 @@ namespace {
 constexpr std::int64_t kKeyLimit = std::int64_t{1} << 20;
 
 std::uint64_t packKey(const Eigen::Vector3d& k) {
-  const auto u = [](double v) { return static_cast<std::uint64_t>(static_cast<std::int64_t>(v) + kKeyLimit) & 0x1FFFFFu; };
+  const auto u = [](double v) {
+    return static_cast<std::uint64_t>(static_cast<std::int64_t>(v) + kKeyLimit) & 0x1FFFFFu;
+  };
   return u(k.x()) | (u(k.y()) << 21) | (u(k.z()) << 42);
 }
 

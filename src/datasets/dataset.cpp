@@ -60,8 +60,8 @@ Status Dataset::selectRange() {
   const FrameRange& r = options_.frames;
   const std::size_t end = r.end == FrameRange::kToEnd ? n : r.end;
   if (r.begin >= n || end > n || end <= r.begin) {
-    return invalidArgument(fmt::format("frame range {} is out of bounds: {} has {} frames (0:{})", r.toString(),
-                                       root().string(), n, n));
+    return invalidArgument(
+        fmt::format("frame range {} is out of bounds: {} has {} frames (0:{})", r.toString(), root().string(), n, n));
   }
   range_begin_ = r.begin;
   range_end_ = end;
@@ -81,8 +81,7 @@ double Dataset::stamp(std::size_t i) const {
 
 Status Dataset::setPoses(std::vector<Isometry3d> T_W_L) {
   if (T_W_L.size() != recordingSize()) {
-    return invalidArgument(fmt::format("{} poses given for a recording of {} frames", T_W_L.size(),
-                                       recordingSize()));
+    return invalidArgument(fmt::format("{} poses given for a recording of {} frames", T_W_L.size(), recordingSize()));
   }
   poses_ = std::move(T_W_L);
   has_poses_ = true;
@@ -103,13 +102,12 @@ Result<Frame> Dataset::frame(std::size_t i) const {
   frame->T_W_L = poses_[index];
   prepareScan(frame->points_L, options_, frame->stats);
   if (frame->stats.non_finite_dropped > 0) {
-    log::warn("{}: dropped {} of {} points with non-finite values", frame->scan_path,
-              frame->stats.non_finite_dropped, frame->stats.raw_points);
+    log::warn("{}: dropped {} of {} points with non-finite values", frame->scan_path, frame->stats.non_finite_dropped,
+              frame->stats.raw_points);
   }
   if (frame->points_L.empty()) {
-    return parseError(fmt::format("{}: no point left after the range gate {}-{} m ({} points read)",
-                                  frame->scan_path, options_.min_range_m, options_.max_range_m,
-                                  frame->stats.raw_points));
+    return parseError(fmt::format("{}: no point left after the range gate {}-{} m ({} points read)", frame->scan_path,
+                                  options_.min_range_m, options_.max_range_m, frame->stats.raw_points));
   }
   return frame;
 }

@@ -32,8 +32,8 @@ void loadImageOrCount(CameraView& view, FrameStats& stats) {
   }
   if (image->width() != view.camera.width_px || image->height() != view.camera.height_px) {
     ++stats.missing_images;
-    log::warn("{}: image is {}x{}, calibration says {}x{}; frame continues without it", view.image_path,
-              image->width(), image->height(), view.camera.width_px, view.camera.height_px);
+    log::warn("{}: image is {}x{}, calibration says {}x{}; frame continues without it", view.image_path, image->width(),
+              image->height(), view.camera.width_px, view.camera.height_px);
     return;
   }
   view.image = std::move(image.value());

@@ -19,8 +19,8 @@ Result<CameraView> cameraFromProjection(const std::string& name, std::span<const
   const double fx = K(0, 0);
   const double fy = K(1, 1);
   const double kTol = 1e-6 * std::max(1.0, std::abs(fx));
-  if (!(fx > 0.0) || !(fy > 0.0) || std::abs(K(1, 0)) > kTol || std::abs(K(2, 0)) > kTol ||
-      std::abs(K(2, 1)) > kTol || std::abs(K(2, 2) - 1.0) > 1e-9) {
+  if (!(fx > 0.0) || !(fy > 0.0) || std::abs(K(1, 0)) > kTol || std::abs(K(2, 0)) > kTol || std::abs(K(2, 1)) > kTol ||
+      std::abs(K(2, 2) - 1.0) > 1e-9) {
     return parseError(fmt::format("{}: projection matrix is not of the form K [I | t] with fx, fy > 0", name));
   }
   if (width_px <= 0 || height_px <= 0) {

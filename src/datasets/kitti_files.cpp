@@ -85,13 +85,12 @@ Result<std::vector<double>> CalibFile::numbers(const std::string& key, std::size
     return parseError(fmt::format("{}: key '{}' is missing", path_.string(), key));
   }
   if (it->second.size() != expected_count) {
-    return parseError(fmt::format("{} line {}: '{}' needs {} numbers, found {}", path_.string(),
-                                  line_of_.at(key), key, expected_count, it->second.size()));
+    return parseError(fmt::format("{} line {}: '{}' needs {} numbers, found {}", path_.string(), line_of_.at(key), key,
+                                  expected_count, it->second.size()));
   }
   for (double v : it->second) {
     if (!std::isfinite(v)) {
-      return parseError(fmt::format("{} line {}: '{}' has a non-finite value", path_.string(),
-                                    line_of_.at(key), key));
+      return parseError(fmt::format("{} line {}: '{}' has a non-finite value", path_.string(), line_of_.at(key), key));
     }
   }
   return it->second;
@@ -121,9 +120,10 @@ Result<PointCloud> readVelodyneBin(const fs::path& path) {
   constexpr std::size_t kPointBytes = 4 * sizeof(float);
   if (bytes->empty()) return parseError(fmt::format("{}: empty scan (0 bytes)", path.string()));
   if (bytes->size() % kPointBytes != 0) {
-    return parseError(fmt::format("{}: size {} bytes is not a multiple of {} (x, y, z, reflectance as "
-                                  "float32): truncated or not a KITTI scan",
-                                  path.string(), bytes->size(), kPointBytes));
+    return parseError(
+        fmt::format("{}: size {} bytes is not a multiple of {} (x, y, z, reflectance as "
+                    "float32): truncated or not a KITTI scan",
+                    path.string(), bytes->size(), kPointBytes));
   }
   static_assert(sizeof(float) == 4);
   const std::size_t n = bytes->size() / kPointBytes;
@@ -144,13 +144,12 @@ Result<std::vector<std::uint32_t>> readLabelFile(const fs::path& path, std::size
   auto bytes = readBinary(path);
   if (!bytes) return bytes.status();
   if (bytes->size() % sizeof(std::uint32_t) != 0) {
-    return parseError(fmt::format("{}: size {} bytes is not a multiple of 4 (uint32 labels)", path.string(),
-                                  bytes->size()));
+    return parseError(
+        fmt::format("{}: size {} bytes is not a multiple of 4 (uint32 labels)", path.string(), bytes->size()));
   }
   const std::size_t n = bytes->size() / sizeof(std::uint32_t);
   if (n != expected_points) {
-    return parseError(
-        fmt::format("{}: {} labels for a scan of {} points", path.string(), n, expected_points));
+    return parseError(fmt::format("{}: {} labels for a scan of {} points", path.string(), n, expected_points));
   }
   std::vector<std::uint32_t> labels(n);
   if (n > 0) std::memcpy(labels.data(), bytes->data(), bytes->size());
@@ -180,10 +179,10 @@ Result<double> parseKittiTimestamp(const std::string& text) {
   double second = 0.0;
   char extra = 0;
   // NOLINTNEXTLINE(cert-err34-c): every field is range-checked below
-  const int n = std::sscanf(text.c_str(), "%d-%u-%u %d:%d:%lf %c", &year, &month, &day, &hour, &minute,
-                            &second, &extra);
-  if (n != 6 || month < 1 || month > 12 || day < 1 || day > 31 || hour < 0 || hour > 23 || minute < 0 ||
-      minute > 59 || !(second >= 0.0 && second < 61.0)) {
+  const int n =
+      std::sscanf(text.c_str(), "%d-%u-%u %d:%d:%lf %c", &year, &month, &day, &hour, &minute, &second, &extra);
+  if (n != 6 || month < 1 || month > 12 || day < 1 || day > 31 || hour < 0 || hour > 23 || minute < 0 || minute > 59 ||
+      !(second >= 0.0 && second < 61.0)) {
     return parseError(fmt::format("'{}' is not a timestamp of the form 2011-09-26 13:10:51.158069617", text));
   }
   const long long days = daysFromCivil(year, month, day);

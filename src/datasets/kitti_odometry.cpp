@@ -14,7 +14,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
-bool isSequenceDir(const fs::path& p) { return fs::is_directory(p / "velodyne"); }
+bool isSequenceDir(const fs::path& p) {
+  return fs::is_directory(p / "velodyne");
+}
 
 struct Layout {
   fs::path sequence_dir;
@@ -72,8 +74,7 @@ class KittiOdometryDataset final : public Dataset {
   }
 
  private:
-  KittiOdometryDataset(const DatasetOptions& options, Layout layout)
-      : Dataset(options), layout_(std::move(layout)) {}
+  KittiOdometryDataset(const DatasetOptions& options, Layout layout) : Dataset(options), layout_(std::move(layout)) {}
 
   Status load() {
     const fs::path& dir = layout_.sequence_dir;
@@ -107,8 +108,8 @@ class KittiOdometryDataset final : public Dataset {
       auto poses = readPoseFile(layout_.poses_file);
       if (!poses) return poses.status();
       if (poses->size() != n) {
-        return parseError(fmt::format("{}: {} poses for {} scans in {}", layout_.poses_file.string(),
-                                      poses->size(), n, (dir / "velodyne").string()));
+        return parseError(fmt::format("{}: {} poses for {} scans in {}", layout_.poses_file.string(), poses->size(), n,
+                                      (dir / "velodyne").string()));
       }
       // Camera-0 poses P into LiDAR poses: T_W_L = inv(Tr) * P * Tr (world = LiDAR frame of the
       // first camera pose's origin).

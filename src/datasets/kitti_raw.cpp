@@ -13,8 +13,12 @@ namespace fs = std::filesystem;
 
 namespace {
 
-bool isDriveDir(const fs::path& p) { return fs::is_directory(p / "velodyne_points"); }
-bool isDateDir(const fs::path& p) { return fs::exists(p / "calib_cam_to_cam.txt"); }
+bool isDriveDir(const fs::path& p) {
+  return fs::is_directory(p / "velodyne_points");
+}
+bool isDateDir(const fs::path& p) {
+  return fs::exists(p / "calib_cam_to_cam.txt");
+}
 
 // Subfolders of `dir` for which `pred` holds.
 template <typename Pred>
@@ -34,17 +38,17 @@ Result<fs::path> findDriveDir(const fs::path& path) {
   if (!isDateDir(path)) {
     auto dates = subdirsWhere(path, isDateDir);
     if (dates.size() != 1) {
-      return notFound(fmt::format("{}: not a KITTI raw folder (expected a drive folder with velodyne_points/, "
-                                  "or a date folder with calib_cam_to_cam.txt; found {} date folders)",
-                                  path.string(), dates.size()));
+      return notFound(
+          fmt::format("{}: not a KITTI raw folder (expected a drive folder with velodyne_points/, "
+                      "or a date folder with calib_cam_to_cam.txt; found {} date folders)",
+                      path.string(), dates.size()));
     }
     date_dir = dates.front();
   }
   auto drives = subdirsWhere(date_dir, isDriveDir);
   if (drives.size() != 1) {
-    return notFound(fmt::format("{}: expected one drive folder with velodyne_points/, found {}{}",
-                                date_dir.string(), drives.size(),
-                                drives.empty() ? "" : "; pass the drive folder itself"));
+    return notFound(fmt::format("{}: expected one drive folder with velodyne_points/, found {}{}", date_dir.string(),
+                                drives.size(), drives.empty() ? "" : "; pass the drive folder itself"));
   }
   return drives.front();
 }
@@ -106,12 +110,12 @@ class KittiRawDataset final : public Dataset {
     auto stamps = readTimestampFile(vdir / "timestamps.txt");
     if (!stamps) return stamps.status();
     if (stamps->size() != n) {
-      return parseError(fmt::format("{}: {} timestamps for {} scans", (vdir / "timestamps.txt").string(),
-                                    stamps->size(), n));
+      return parseError(
+          fmt::format("{}: {} timestamps for {} scans", (vdir / "timestamps.txt").string(), stamps->size(), n));
     }
     stamps_s_ = std::move(stamps.value());
-    for (auto [name, out] : {std::pair{"timestamps_start.txt", &scan_start_s_},
-                             std::pair{"timestamps_end.txt", &scan_end_s_}}) {
+    for (auto [name, out] :
+         {std::pair{"timestamps_start.txt", &scan_start_s_}, std::pair{"timestamps_end.txt", &scan_end_s_}}) {
       if (!fs::exists(vdir / name)) continue;
       auto t = readTimestampFile(vdir / name);
       if (!t) return t.status();
@@ -163,7 +167,9 @@ class KittiRawDataset final : public Dataset {
 
 }  // namespace
 
-bool looksLikeKittiRaw(const fs::path& path) { return findDriveDir(path).isOk(); }
+bool looksLikeKittiRaw(const fs::path& path) {
+  return findDriveDir(path).isOk();
+}
 
 Result<std::unique_ptr<Dataset>> openKittiRaw(const fs::path& path, const DatasetOptions& options) {
   return KittiRawDataset::open(path, options);

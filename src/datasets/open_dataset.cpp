@@ -19,9 +19,10 @@ Result<std::unique_ptr<Dataset>> openDataset(const std::filesystem::path& path, 
   }
   if (looksLikeKittiRaw(path)) return openKittiRaw(path, options);
   if (looksLikeKittiOdometry(path)) return openKittiOdometry(path, options);
-  return notFound(fmt::format("{}: not a recognised dataset (KITTI raw: a drive folder with velodyne_points/ "
-                              "or its date folder; KITTI odometry: a folder with sequences/ or velodyne/)",
-                              path.string()));
+  return notFound(
+      fmt::format("{}: not a recognised dataset (KITTI raw: a drive folder with velodyne_points/ "
+                  "or its date folder; KITTI odometry: a folder with sequences/ or velodyne/)",
+                  path.string()));
 }
 
 }  // namespace artemis::datasets

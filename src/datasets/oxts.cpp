@@ -20,13 +20,13 @@ Result<OxtsPacket> readOxtsFile(const std::filesystem::path& path) {
   auto v = parseNumbers(lines->front(), path.string() + " line 1");
   if (!v) return v.status();
   if (v->size() != kOxtsFields) {
-    return parseError(fmt::format("{} line 1: an OXTS packet has {} numbers, found {}", path.string(),
-                                  kOxtsFields, v->size()));
+    return parseError(
+        fmt::format("{} line 1: an OXTS packet has {} numbers, found {}", path.string(), kOxtsFields, v->size()));
   }
   for (std::size_t i = 0; i < 6; ++i) {
     if (!std::isfinite((*v)[i])) {
-      return parseError(fmt::format("{} line 1: field {} (lat lon alt roll pitch yaw) is not finite",
-                                    path.string(), i + 1));
+      return parseError(
+          fmt::format("{} line 1: field {} (lat lon alt roll pitch yaw) is not finite", path.string(), i + 1));
     }
   }
   if (std::abs((*v)[0]) >= 90.0) {

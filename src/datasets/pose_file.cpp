@@ -20,8 +20,7 @@ Result<std::vector<Isometry3d>> readPoseFile(const fs::path& path) {
     auto values = parseNumbers((*lines)[i], where);
     if (!values) return values.status();
     if (values->size() != 12) {
-      return parseError(fmt::format("{}: a pose needs 12 numbers (row-major 3x4), found {}", where,
-                                    values->size()));
+      return parseError(fmt::format("{}: a pose needs 12 numbers (row-major 3x4), found {}", where, values->size()));
     }
     auto T = isometryFromRowMajor3x4(*values);
     if (!T) return parseError(fmt::format("{}: {}", where, T.status().message()));

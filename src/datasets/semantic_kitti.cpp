@@ -45,17 +45,18 @@ constexpr std::array<ClassInfo, 34> kClasses = {{
 }};
 
 constexpr std::array<std::string_view, kNumTrainClasses + 1> kTrainNames = {
-    "unlabeled", "car",    "bicycle",  "motorcycle", "truck",        "other-vehicle", "person",
-    "bicyclist", "motorcyclist", "road", "parking",   "sidewalk",     "other-ground",  "building",
-    "fence",     "vegetation",   "trunk", "terrain",  "pole",         "traffic-sign"};
+    "unlabeled", "car",          "bicycle", "motorcycle", "truck",    "other-vehicle", "person",
+    "bicyclist", "motorcyclist", "road",    "parking",    "sidewalk", "other-ground",  "building",
+    "fence",     "vegetation",   "trunk",   "terrain",    "pole",     "traffic-sign"};
 
-constexpr std::array<std::uint16_t, kNumTrainClasses + 1> kTrainToRaw = {0,  10, 11, 15, 18, 20, 30,
-                                                                          31, 32, 40, 44, 48, 49, 50,
-                                                                          51, 70, 71, 72, 80, 81};
+constexpr std::array<std::uint16_t, kNumTrainClasses + 1> kTrainToRaw = {0,  10, 11, 15, 18, 20, 30, 31, 32, 40,
+                                                                         44, 48, 49, 50, 51, 70, 71, 72, 80, 81};
 
 }  // namespace
 
-std::span<const ClassInfo> classes() { return kClasses; }
+std::span<const ClassInfo> classes() {
+  return kClasses;
+}
 
 std::optional<ClassInfo> find(std::uint16_t id) {
   const auto it = std::lower_bound(kClasses.begin(), kClasses.end(), id,

@@ -59,7 +59,9 @@ Status countMismatch(const PlyData& data, const std::string& element, const std:
 
 }  // namespace
 
-const char* plyTypeName(PlyType type) { return kTypeNames[detail::columnIndex(type)].classic; }
+const char* plyTypeName(PlyType type) {
+  return kTypeNames[detail::columnIndex(type)].classic;
+}
 
 std::optional<PlyType> plyTypeFromName(const std::string& name) {
   for (const auto& entry : kTypeNames) {
@@ -72,10 +74,18 @@ std::size_t plyTypeSize(PlyType type) {
   return detail::visitPlyType(type, [](auto tag) { return sizeof(tag); });
 }
 
-const PlyProperty* PlyElement::find(const std::string& property) const { return findByName(properties, property); }
-PlyProperty* PlyElement::find(const std::string& property) { return findByName(properties, property); }
-const PlyElement* PlyData::find(const std::string& element) const { return findByName(elements, element); }
-PlyElement* PlyData::find(const std::string& element) { return findByName(elements, element); }
+const PlyProperty* PlyElement::find(const std::string& property) const {
+  return findByName(properties, property);
+}
+PlyProperty* PlyElement::find(const std::string& property) {
+  return findByName(properties, property);
+}
+const PlyElement* PlyData::find(const std::string& element) const {
+  return findByName(elements, element);
+}
+PlyElement* PlyData::find(const std::string& element) {
+  return findByName(elements, element);
+}
 
 template <typename T>
 Status PlyData::setScalar(const std::string& element, const std::string& property, std::vector<T> values) {

@@ -46,7 +46,9 @@ decltype(auto) visitPlyType(PlyType type, F&& f) {
 }
 
 // The variant alternatives of PlyColumn are in PlyType order.
-inline std::size_t columnIndex(PlyType type) { return static_cast<std::size_t>(type); }
+inline std::size_t columnIndex(PlyType type) {
+  return static_cast<std::size_t>(type);
+}
 
 inline PlyColumn makeColumn(PlyType type) {
   return visitPlyType(type, [](auto tag) { return PlyColumn(std::vector<decltype(tag)>{}); });
@@ -56,7 +58,9 @@ inline std::size_t columnSize(const PlyColumn& column) {
   return std::visit([](const auto& values) { return values.size(); }, column);
 }
 
-inline bool isIntegerType(PlyType type) { return type != PlyType::kFloat32 && type != PlyType::kFloat64; }
+inline bool isIntegerType(PlyType type) {
+  return type != PlyType::kFloat32 && type != PlyType::kFloat64;
+}
 
 }  // namespace artemis::io::detail
 

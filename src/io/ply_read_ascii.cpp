@@ -11,7 +11,9 @@ namespace artemis::io::detail {
 
 namespace {
 
-bool isSpace(char c) { return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f'; }
+bool isSpace(char c) {
+  return c == ' ' || c == '\t' || c == '\r' || c == '\v' || c == '\f';
+}
 
 // Next whitespace-separated word of `rest` (empty when none), consuming it.
 std::string_view nextWord(std::string_view& rest) {

@@ -16,7 +16,9 @@ namespace artemis::io {
 
 namespace {
 
-bool isName(const std::string& name) { return !name.empty() && name.find_first_of(" \t\r\n") == std::string::npos; }
+bool isName(const std::string& name) {
+  return !name.empty() && name.find_first_of(" \t\r\n") == std::string::npos;
+}
 
 std::uint64_t maxCount(PlyType count_type) {
   return detail::visitPlyType(count_type, [](auto tag) -> std::uint64_t {
@@ -115,7 +117,9 @@ char* formatValue(char* out, const unsigned char* source) {
   return std::to_chars(out, out + 32, value).ptr;
 }
 
-char* formatCount(char* out, std::uint32_t count) { return std::to_chars(out, out + 16, count).ptr; }
+char* formatCount(char* out, std::uint32_t count) {
+  return std::to_chars(out, out + 16, count).ptr;
+}
 
 RawColumn rawColumn(const PlyProperty& property) {
   RawColumn raw;

@@ -37,7 +37,9 @@ RunResult run(const std::string& args) {
   return r;
 }
 
-std::string rawPath() { return (test::dataDir() / "kitti_raw").string(); }
+std::string rawPath() {
+  return (test::dataDir() / "kitti_raw").string();
+}
 
 TEST(Cli, HelpExplainsTheSubcommands) {
   const auto r = run("dataset info --help");

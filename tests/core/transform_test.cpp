@@ -18,7 +18,7 @@ Isometry3d somePose() {
 TEST(Transform, RowMajorRoundTrip) {
   const Isometry3d T = somePose();
   const auto v = toRowMajor3x4(T);
-  EXPECT_DOUBLE_EQ(v[3], 1.5);   // t_x is the 4th number (row-major 3x4)
+  EXPECT_DOUBLE_EQ(v[3], 1.5);  // t_x is the 4th number (row-major 3x4)
   EXPECT_DOUBLE_EQ(v[7], -2.0);
   EXPECT_DOUBLE_EQ(v[11], 0.25);
   auto back = isometryFromRowMajor3x4(v);

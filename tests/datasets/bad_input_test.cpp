@@ -2,9 +2,9 @@
 // the file and the problem, or a counted, logged skip.
 #include <gtest/gtest.h>
 
+#include <fmt/format.h>
 #include <cmath>
 #include <fstream>
-#include <fmt/format.h>
 
 #include <limits>
 
@@ -112,9 +112,9 @@ TEST_F(OdometryFixture, NonFinitePointsAreDroppedAndCounted) {
   auto scan = ringScan();
   const float nan = std::numeric_limits<float>::quiet_NaN();
   const float inf = std::numeric_limits<float>::infinity();
-  scan[0] = nan;       // point 0: x
-  scan[4 + 2] = inf;   // point 1: z
-  scan[8 + 3] = nan;   // point 2: intensity
+  scan[0] = nan;      // point 0: x
+  scan[4 + 2] = inf;  // point 1: z
+  scan[8 + 3] = nan;  // point 2: intensity
   writeScan(seq_ / "velodyne" / "000000.bin", scan);
   auto ds = open();
   auto f = (*ds)->frame(0);

@@ -9,7 +9,9 @@
 namespace artemis::datasets {
 namespace {
 
-void writeText(const std::filesystem::path& p, const std::string& text) { std::ofstream(p) << text; }
+void writeText(const std::filesystem::path& p, const std::string& text) {
+  std::ofstream(p) << text;
+}
 
 TEST(CalibFile, ReadsNumbersAndKeepsTextKeys) {
   test::TempDir dir;

@@ -2,9 +2,9 @@
 // pose or calibration convention.
 #include <gtest/gtest.h>
 
+#include <fmt/format.h>
 #include <algorithm>
 #include <cmath>
-#include <fmt/format.h>
 
 #include "artemis/core/projection.hpp"
 #include "artemis/datasets/dataset.hpp"
@@ -122,9 +122,10 @@ TEST_F(KittiRaw, ConsecutiveScansAgreeInTheWorldFrameOnlyUnderTheRightConvention
     const double right = gap(v.correct);
     const double transposed = gap(v.transposed_rotation);
     const double inverted = gap(v.inverted_poses);
-    const double no_motion = test_util::medianGap(a->points_L, Isometry3d::Identity(), b->points_L, Isometry3d::Identity());
-    std::printf("frames %zu-%zu median gap: right %.3f, transposed R %.3f, inverted poses %.3f, no motion %.3f m\n",
-                i, i + 1, right, transposed, inverted, no_motion);
+    const double no_motion =
+        test_util::medianGap(a->points_L, Isometry3d::Identity(), b->points_L, Isometry3d::Identity());
+    std::printf("frames %zu-%zu median gap: right %.3f, transposed R %.3f, inverted poses %.3f, no motion %.3f m\n", i,
+                i + 1, right, transposed, inverted, no_motion);
     EXPECT_LT(right, 0.10);
     EXPECT_GT(transposed, 0.15);
     EXPECT_GT(inverted, 0.15);
@@ -145,7 +146,8 @@ double edgeScore(const Frame& frame, const CameraView& view) {
   ImageF32 zbuf(w, h, 1, 1e9f);
   std::vector<Eigen::Vector2i> px(proj.size());
   for (std::size_t k = 0; k < proj.size(); ++k) {
-    px[k] = Eigen::Vector2i(static_cast<int>(std::lround(proj.uv_px[k].x())), static_cast<int>(std::lround(proj.uv_px[k].y())));
+    px[k] = Eigen::Vector2i(static_cast<int>(std::lround(proj.uv_px[k].x())),
+                            static_cast<int>(std::lround(proj.uv_px[k].y())));
     float& z = zbuf.at(px[k].x(), px[k].y());
     z = std::min(z, proj.depth_m[k]);
   }
@@ -174,7 +176,9 @@ double meanGradient(const ImageU8& img) {
   std::size_t n = 0;
   for (int v = 1; v + 1 < img.height(); v += 2) {
     for (int u = 1; u + 1 < img.width(); u += 2) {
-      const auto g = [&](int a, int b) { return 0.299 * img.at(a, b, 0) + 0.587 * img.at(a, b, 1) + 0.114 * img.at(a, b, 2); };
+      const auto g = [&](int a, int b) {
+        return 0.299 * img.at(a, b, 0) + 0.587 * img.at(a, b, 1) + 0.114 * img.at(a, b, 2);
+      };
       sum += std::hypot(g(u + 1, v) - g(u - 1, v), g(u, v + 1) - g(u, v - 1));
       ++n;
     }
@@ -193,7 +197,8 @@ TEST_F(KittiRaw, LidarDepthEdgesLandOnImageEdges) {
   const auto t = *velo.numbers("T", 3);
   T_C0_L.translation() = Eigen::Vector3d(t[0], t[1], t[2]);
   Isometry3d T_R0_C0 = Isometry3d::Identity();
-  T_R0_C0.linear() = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(cam.numbers("R_rect_00", 9)->data());
+  T_R0_C0.linear() =
+      Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(cam.numbers("R_rect_00", 9)->data());
   auto image_03 = *cameraFromProjection("image_03", *cam.numbers("P_rect_03", 12), T_R0_C0 * T_C0_L, 1242, 375);
   auto no_rect = *cameraFromProjection("image_02", *cam.numbers("P_rect_02", 12), T_C0_L, 1242, 375);
 

@@ -17,8 +17,8 @@ TEST(SemanticKitti, ClassTable) {
   EXPECT_EQ(sk::toTrainId(252), 1);  // moving-car evaluates as car
   EXPECT_TRUE(sk::find(252)->moving);
   EXPECT_FALSE(sk::find(10)->moving);
-  EXPECT_EQ(sk::toTrainId(60), 9);   // lane-marking is road
-  EXPECT_EQ(sk::toTrainId(52), 0);   // other-structure is ignored
+  EXPECT_EQ(sk::toTrainId(60), 9);  // lane-marking is road
+  EXPECT_EQ(sk::toTrainId(52), 0);  // other-structure is ignored
   EXPECT_EQ(sk::toTrainId(1234), 0);
   EXPECT_FALSE(sk::find(1234).has_value());
   EXPECT_EQ(sk::trainName(13), "building");
@@ -46,8 +46,8 @@ TEST(SemanticKitti, FragmentLabels) {
     names.insert(sk::find(sk::classOf(l))->name);
   }
   EXPECT_EQ(classes, (std::set<std::uint16_t>{0, 50, 52, 70, 71, 80}));
-  EXPECT_EQ(names, (std::set<std::string_view>{"unlabeled", "building", "other-structure", "vegetation", "trunk",
-                                               "pole"}));
+  EXPECT_EQ(names,
+            (std::set<std::string_view>{"unlabeled", "building", "other-structure", "vegetation", "trunk", "pole"}));
   // A label file for a different point count is refused.
   auto mismatch = readLabelFile(dir / "labels/000000.label", 49);
   ASSERT_FALSE(mismatch.isOk());

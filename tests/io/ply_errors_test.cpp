@@ -32,7 +32,9 @@ class PlyErrors : public ::testing::Test {
   test::TempDir dir_;
 };
 
-std::string floatBytes(std::size_t count) { return std::string(count * sizeof(float), '\x01'); }
+std::string floatBytes(std::size_t count) {
+  return std::string(count * sizeof(float), '\x01');
+}
 
 TEST_F(PlyErrors, MissingFile) {
   auto read = readPly(dir_ / "absent.ply");

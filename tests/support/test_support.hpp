@@ -35,11 +35,11 @@ bool runningInCi();
 }  // namespace artemis::test
 
 // Skips the test (or fails it under CI=true) when ARTEMIS_DATA_DIR/<relative> is missing.
-#define ARTEMIS_REQUIRE_DATA(relative)                                     \
-  do {                                                                     \
-    std::string artemis_why_;                                              \
-    if (!::artemis::test::dataAvailable(relative, &artemis_why_)) {        \
-      if (::artemis::test::runningInCi()) FAIL() << artemis_why_;          \
-      GTEST_SKIP() << artemis_why_;                                        \
-    }                                                                      \
+#define ARTEMIS_REQUIRE_DATA(relative)                              \
+  do {                                                              \
+    std::string artemis_why_;                                       \
+    if (!::artemis::test::dataAvailable(relative, &artemis_why_)) { \
+      if (::artemis::test::runningInCi()) FAIL() << artemis_why_;   \
+      GTEST_SKIP() << artemis_why_;                                 \
+    }                                                               \
   } while (0)

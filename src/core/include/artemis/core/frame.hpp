@@ -13,11 +13,11 @@
 namespace artemis {
 
 struct CameraView {
-  std::string name;        // e.g. "image_02"
-  PinholeCamera camera;    // intrinsics of the (rectified) image
+  std::string name;                           // e.g. "image_02"
+  PinholeCamera camera;                       // intrinsics of the (rectified) image
   Isometry3d T_L_C = Isometry3d::Identity();  // camera frame into LiDAR frame
-  ImageU8 image;           // RGB; empty when the image is missing (see Frame::stats)
-  std::string image_path;  // where the image was (or should have been) read from
+  ImageU8 image;                              // RGB; empty when the image is missing (see Frame::stats)
+  std::string image_path;                     // where the image was (or should have been) read from
   [[nodiscard]] bool hasImage() const { return !image.empty(); }
 };
 
@@ -30,8 +30,8 @@ struct FrameStats {
 };
 
 struct Frame {
-  std::size_t index = 0;  // index in the recording (not in the selected range)
-  double stamp_s = 0.0;   // LiDAR stamp (mid-sweep where known), seconds
+  std::size_t index = 0;      // index in the recording (not in the selected range)
+  double stamp_s = 0.0;       // LiDAR stamp (mid-sweep where known), seconds
   double scan_start_s = 0.0;  // sweep start and end where the recording has them, else = stamp_s
   double scan_end_s = 0.0;
   Isometry3d T_W_L = Isometry3d::Identity();  // LiDAR frame into world frame

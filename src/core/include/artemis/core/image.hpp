@@ -13,15 +13,13 @@ template <typename T>
 class Image {
  public:
   Image() = default;
-  Image(int width, int height, int channels, T fill = T{})
-      : width_(width), height_(height), channels_(channels) {
+  Image(int width, int height, int channels, T fill = T{}) : width_(width), height_(height), channels_(channels) {
     if (width < 0 || height < 0 || channels < 1 || channels > 4) {
-      throw std::invalid_argument("Image: bad size " + std::to_string(width) + "x" +
-                                  std::to_string(height) + "x" + std::to_string(channels));
+      throw std::invalid_argument("Image: bad size " + std::to_string(width) + "x" + std::to_string(height) + "x" +
+                                  std::to_string(channels));
     }
-    data_.assign(static_cast<std::size_t>(width) * static_cast<std::size_t>(height) *
-                     static_cast<std::size_t>(channels),
-                 fill);
+    data_.assign(
+        static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * static_cast<std::size_t>(channels), fill);
   }
 
   [[nodiscard]] int width() const { return width_; }

@@ -12,7 +12,7 @@ namespace artemis {
 struct ProjectedPoints {
   std::vector<std::uint32_t> index;  // index of the point in the scan
   std::vector<Eigen::Vector2f> uv_px;
-  std::vector<float> depth_m;        // z in the camera frame, > 0
+  std::vector<float> depth_m;  // z in the camera frame, > 0
   [[nodiscard]] std::size_t size() const { return index.size(); }
 };
 

@@ -40,12 +40,18 @@ class Status {
   std::string message_;
 };
 
-inline Status notFound(std::string message) { return {StatusCode::kNotFound, std::move(message)}; }
+inline Status notFound(std::string message) {
+  return {StatusCode::kNotFound, std::move(message)};
+}
 inline Status invalidArgument(std::string message) {
   return {StatusCode::kInvalidArgument, std::move(message)};
 }
-inline Status parseError(std::string message) { return {StatusCode::kParseError, std::move(message)}; }
-inline Status ioError(std::string message) { return {StatusCode::kIoError, std::move(message)}; }
+inline Status parseError(std::string message) {
+  return {StatusCode::kParseError, std::move(message)};
+}
+inline Status ioError(std::string message) {
+  return {StatusCode::kIoError, std::move(message)};
+}
 
 // Thrown by Result::value() on an error result: a broken contract of the caller.
 class StatusError : public std::runtime_error {
@@ -61,7 +67,7 @@ class StatusError : public std::runtime_error {
 template <typename T>
 class Result {
  public:
-  Result(T value) : state_(std::move(value)) {}  // NOLINT(google-explicit-constructor)
+  Result(T value) : state_(std::move(value)) {}        // NOLINT(google-explicit-constructor)
   Result(Status status) : state_(std::move(status)) {  // NOLINT(google-explicit-constructor)
     if (std::get<Status>(state_).isOk()) {
       throw std::logic_error("Result constructed from an ok Status without a value");

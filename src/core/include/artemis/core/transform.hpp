@@ -15,8 +15,7 @@ using Isometry3d = Eigen::Isometry3d;
 
 // Builds a transform from 12 row-major numbers [R | t]. The rotation part is checked:
 // |R^T R - I| must be below `orthonormality_tolerance`, det(R) > 0.
-Result<Isometry3d> isometryFromRowMajor3x4(std::span<const double> values,
-                                           double orthonormality_tolerance = 1e-3);
+Result<Isometry3d> isometryFromRowMajor3x4(std::span<const double> values, double orthonormality_tolerance = 1e-3);
 
 // Same check on a full 3x3 rotation and a translation.
 Result<Isometry3d> isometryFromRt(const Eigen::Matrix3d& R, const Eigen::Vector3d& t,

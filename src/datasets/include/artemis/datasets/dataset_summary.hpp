@@ -24,14 +24,14 @@ struct CountStats {
 struct DatasetSummary {
   std::string format;
   std::string root;
-  std::size_t frames = 0;          // frames in the selected range
-  std::size_t frames_failed = 0;   // frames that could not be read (errors listed below)
-  CountStats points_per_frame;     // points in each scan file
+  std::size_t frames = 0;             // frames in the selected range
+  std::size_t frames_failed = 0;      // frames that could not be read (errors listed below)
+  CountStats points_per_frame;        // points in each scan file
   CountStats gated_points_per_frame;  // after NaN removal and the range gate
-  int image_width = 0;             // of the first camera; 0 without camera
+  int image_width = 0;                // of the first camera; 0 without camera
   int image_height = 0;
-  double path_length_m = 0.0;      // summed distance between consecutive LiDAR positions
-  double projected_share = 0.0;    // share of range-gated points landing inside the first camera's image
+  double path_length_m = 0.0;    // summed distance between consecutive LiDAR positions
+  double projected_share = 0.0;  // share of range-gated points landing inside the first camera's image
   std::size_t missing_images = 0;
   std::size_t non_finite_points = 0;
   bool has_poses = false;
@@ -41,9 +41,9 @@ struct DatasetSummary {
 DatasetSummary summarizeDataset(const Dataset& dataset, const ProgressFn& progress = {});
 
 struct AggregatedCloud {
-  PointCloud cloud_W;           // world frame, voxel-downsampled
+  PointCloud cloud_W;  // world frame, voxel-downsampled
   std::size_t frames_used = 0;
-  std::size_t points_in = 0;    // range-gated points before downsampling
+  std::size_t points_in = 0;  // range-gated points before downsampling
   std::vector<std::string> errors;
 };
 

@@ -11,8 +11,7 @@
 namespace artemis::datasets {
 
 // `path` is the root (holding sequences/ and poses/; options.sequence picks NN) or sequences/NN.
-Result<std::unique_ptr<Dataset>> openKittiOdometry(const std::filesystem::path& path,
-                                                   const DatasetOptions& options);
+Result<std::unique_ptr<Dataset>> openKittiOdometry(const std::filesystem::path& path, const DatasetOptions& options);
 
 bool looksLikeKittiOdometry(const std::filesystem::path& path);
 

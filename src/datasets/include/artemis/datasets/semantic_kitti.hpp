@@ -12,17 +12,21 @@
 namespace artemis::datasets::semantic_kitti {
 
 struct ClassInfo {
-  std::uint16_t id;                  // raw label id (0 unlabeled, 10 car, 252 moving-car, …)
-  std::string_view name;             // "car", "moving-car", …
-  std::array<std::uint8_t, 3> rgb;   // display colour
-  std::uint8_t train_id;             // 0 = ignored, 1..19 evaluation classes
-  bool moving;                       // a moving-object class (252..259)
+  std::uint16_t id;                 // raw label id (0 unlabeled, 10 car, 252 moving-car, …)
+  std::string_view name;            // "car", "moving-car", …
+  std::array<std::uint8_t, 3> rgb;  // display colour
+  std::uint8_t train_id;            // 0 = ignored, 1..19 evaluation classes
+  bool moving;                      // a moving-object class (252..259)
 };
 
 inline constexpr int kNumTrainClasses = 19;  // train ids 1..19; 0 is "unlabeled / ignored"
 
-inline std::uint16_t classOf(std::uint32_t label) { return static_cast<std::uint16_t>(label & 0xFFFFu); }
-inline std::uint16_t instanceOf(std::uint32_t label) { return static_cast<std::uint16_t>(label >> 16); }
+inline std::uint16_t classOf(std::uint32_t label) {
+  return static_cast<std::uint16_t>(label & 0xFFFFu);
+}
+inline std::uint16_t instanceOf(std::uint32_t label) {
+  return static_cast<std::uint16_t>(label >> 16);
+}
 
 // Every raw class of the table, ascending id.
 std::span<const ClassInfo> classes();

@@ -32,8 +32,8 @@ struct PlyProperty {
   std::string name;
   PlyType type = PlyType::kFloat32;  // value type (of the list items for a list)
   bool is_list = false;
-  PlyType count_type = PlyType::kUInt8;  // list length type
-  PlyColumn values;                      // scalar: one per item; list: all items' values concatenated
+  PlyType count_type = PlyType::kUInt8;     // list length type
+  PlyColumn values;                         // scalar: one per item; list: all items' values concatenated
   std::vector<std::uint32_t> list_offsets;  // list only: item i spans [offsets[i], offsets[i+1]); size = count + 1
 };
 
@@ -83,9 +83,9 @@ Status writePly(const std::filesystem::path& path, const PlyData& data);
 // Convenience for the common cases: positions (float x y z), optional per-vertex normals
 // (float nx ny nz), colours (uchar red green blue), and triangles (face / vertex_indices).
 struct PlyMeshView {
-  const std::vector<float>* xyz = nullptr;       // 3 per vertex
-  const std::vector<float>* normals = nullptr;   // 3 per vertex, optional
-  const std::vector<std::uint8_t>* rgb = nullptr;  // 3 per vertex, optional
+  const std::vector<float>* xyz = nullptr;                // 3 per vertex
+  const std::vector<float>* normals = nullptr;            // 3 per vertex, optional
+  const std::vector<std::uint8_t>* rgb = nullptr;         // 3 per vertex, optional
   const std::vector<std::uint32_t>* triangles = nullptr;  // 3 per face, optional
 };
 PlyData makePlyMesh(const PlyMeshView& mesh);
