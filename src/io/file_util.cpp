@@ -1,5 +1,7 @@
 #include "file_util.hpp"
 
+#include "artemis/io/file.hpp"
+
 #include <unistd.h>
 
 #include <atomic>
@@ -107,3 +109,14 @@ Status AtomicFile::commit() {
 }
 
 }  // namespace artemis::io::detail
+
+namespace artemis::io {
+
+Status writeFileAtomic(const std::filesystem::path& path, std::span<const std::byte> bytes) {
+  detail::AtomicFile file;
+  if (Status s = file.open(path); !s.isOk()) return s;
+  if (Status s = file.write(bytes.data(), bytes.size()); !s.isOk()) return s;
+  return file.commit();
+}
+
+}  // namespace artemis::io
