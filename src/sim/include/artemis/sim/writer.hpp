@@ -1,0 +1,59 @@
+#pragma once
+// Writes a simulated sequence in KITTI odometry's layout, so that the same reader serves real and
+// synthetic data:
+//
+//   <out>/sequences/00/velodyne/NNNNNN.bin   x y z intensity, float32
+//   <out>/sequences/00/labels/NNNNNN.label   SemanticKITTI: class | instance << 16
+//   <out>/sequences/00/image_2/NNNNNN.png    rendered colour
+//   <out>/sequences/00/calib.txt             P0..P3, Tr (KITTI 2011_09_26)
+//   <out>/sequences/00/times.txt
+//   <out>/poses/00.txt                       camera-0 poses, world = first camera-0 pose
+//   <out>/gt/mesh.ply                        scene surface in the world frame (first LiDAR pose):
+//                                            per-vertex albedo (sRGB red green blue), per-face
+//                                            class_id and instance_id
+//   <out>/gt/semantic_2/NNNNNN.png           16-bit class id per pixel (0: sky)
+//   <out>/gt/instance_2/NNNNNN.png           16-bit instance id per pixel (0: sky)
+//   <out>/gt/depth_2/NNNNNN.png              16-bit depth along the optical axis, mm (0: none)
+//   <out>/scene.json                         every setting (reproduces the run) and the objects
+//
+// Every file is written atomically; the same settings give byte-identical files.
+
+#include <filesystem>
+#include <functional>
+#include <vector>
+
+#include "artemis/core/status.hpp"
+#include "artemis/sim/params.hpp"
+#include "artemis/sim/scene.hpp"
+
+namespace artemis::sim {
+
+class Simulator;
+
+struct SimReport {
+  std::vector<ClassCount> classes;  // objects and triangles per class
+  std::size_t triangles = 0;
+  double street_length_m = 0.0;
+  double path_length_m = 0.0;
+  std::vector<std::size_t> points_per_frame;
+  // Wall time, milliseconds: building the scene once, then per frame.
+  double scene_ms = 0.0;
+  std::vector<double> lidar_ms, camera_ms, write_ms;
+};
+
+// Called after each frame with (frames done, frames in all).
+using ProgressFn = std::function<void(int, int)>;
+
+// Writes the ground truth that does not change per frame (calibration, poses, times, mesh, scene).
+Status writeStatic(const Simulator& sim, const std::filesystem::path& out);
+// Simulates and writes frame `frame`.
+Status writeFrame(const Simulator& sim, const std::filesystem::path& out, int frame, SimReport* report = nullptr);
+
+// The whole sequence: builds the simulator, writes everything, reports counts and timings.
+Result<SimReport> writeSequence(const SimParams& params, const std::filesystem::path& out,
+                                const ProgressFn& progress = {});
+
+// JSON text of scene.json for `sim`.
+std::string sceneJson(const Simulator& sim);
+
+}  // namespace artemis::sim
