@@ -6,5 +6,6 @@
 namespace artemis::cli {
 
 void addDatasetCommands(CLI::App& app, int& exit_code);
+void addSimCommand(CLI::App& app, int& exit_code);
 
 }  // namespace artemis::cli

@@ -2,12 +2,15 @@
 #include <fmt/format.h>
 #include <CLI/CLI.hpp>
 
+#include <cstdio>
 #include <exception>
 
 #include "artemis/core/log.hpp"
 #include "commands.hpp"
 
-int main(int argc, char** argv) {
+namespace {
+
+int run(int argc, char** argv) {
   CLI::App app{
       "ARTEMIS: textured, semantically queryable triangle meshes from LiDAR + camera recordings.\n"
       "Logs go to stderr; results and --json output to stdout."};
@@ -29,6 +32,7 @@ int main(int argc, char** argv) {
 
   int exit_code = 0;
   artemis::cli::addDatasetCommands(app, exit_code);
+  artemis::cli::addSimCommand(app, exit_code);
 
   try {
     app.parse(argc, argv);
@@ -39,4 +43,19 @@ int main(int argc, char** argv) {
     return 1;
   }
   return exit_code;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  // Anything thrown outside the parse (setting up the commands, reporting an error) ends here
+  // with a message and a non-zero exit code rather than in std::terminate.
+  try {
+    return run(argc, argv);
+  } catch (const std::exception& e) {
+    std::fprintf(stderr, "artemis: %s\n", e.what());
+  } catch (...) {
+    std::fprintf(stderr, "artemis: unknown error\n");
+  }
+  return 1;
 }
