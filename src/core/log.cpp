@@ -12,13 +12,13 @@ std::atomic<Level> g_level{Level::kInfo};
 
 spdlog::logger& logger() {
   // Logs go to stderr so that stdout stays clean for --json output.
-  static const std::shared_ptr<spdlog::logger> instance = [] {
+  static const std::shared_ptr<spdlog::logger> kInstance = [] {
     auto l = spdlog::stderr_color_mt("artemis");
     l->set_pattern("[%H:%M:%S.%e] [%^%l%$] %v");
     l->set_level(spdlog::level::trace);
     return l;
   }();
-  return *instance;
+  return *kInstance;
 }
 
 }  // namespace

@@ -24,20 +24,13 @@ Result<Isometry3d> isometryFromRowMajor3x4(std::span<const double> values, doubl
   if (values.size() != 12) {
     return parseError(fmt::format("a pose needs 12 numbers, got {}", values.size()));
   }
-  Eigen::Matrix3d R;
-  Eigen::Vector3d t;
-  for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 3; ++c) R(r, c) = values[static_cast<std::size_t>(r * 4 + c)];
-    t(r) = values[static_cast<std::size_t>(r * 4 + 3)];
-  }
-  return isometryFromRt(R, t, orthonormality_tolerance);
+  const Eigen::Map<const Eigen::Matrix<double, 3, 4, Eigen::RowMajor>> pose(values.data());
+  return isometryFromRt(pose.leftCols<3>(), pose.col(3), orthonormality_tolerance);
 }
 
 std::array<double, 12> toRowMajor3x4(const Isometry3d& T) {
   std::array<double, 12> out{};
-  for (int r = 0; r < 3; ++r) {
-    for (int c = 0; c < 4; ++c) out[static_cast<std::size_t>(r * 4 + c)] = T.matrix()(r, c);
-  }
+  Eigen::Map<Eigen::Matrix<double, 3, 4, Eigen::RowMajor>>(out.data()) = T.matrix().topRows<3>();
   return out;
 }
 

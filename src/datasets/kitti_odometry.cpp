@@ -85,9 +85,9 @@ class KittiOdometryDataset final : public Dataset {
 
     auto calib = CalibFile::read(dir / "calib.txt");
     if (!calib) return calib.status();
-    auto Tr = calib->numbers("Tr", 12);
-    if (!Tr) return Tr.status();
-    auto T_C0_L = isometryFromRowMajor3x4(*Tr);
+    auto T_C0_L_rowmajor = calib->numbers("Tr", 12);
+    if (!T_C0_L_rowmajor) return T_C0_L_rowmajor.status();
+    auto T_C0_L = isometryFromRowMajor3x4(*T_C0_L_rowmajor);
     if (!T_C0_L) return parseError(fmt::format("{}: Tr: {}", calib->path().string(), T_C0_L.status().message()));
 
     const fs::path times = dir / "times.txt";
@@ -130,12 +130,12 @@ class KittiOdometryDataset final : public Dataset {
 
   // image_2 with P2; the image size is read from the sequence's first image.
   Status loadCamera(const CalibFile& calib, const Isometry3d& T_C0_L) {
-    auto P2 = calib.numbers("P2", 12);
-    if (!P2) return P2.status();
+    auto P_2 = calib.numbers("P2", 12);
+    if (!P_2) return P_2.status();
     const fs::path first = layout_.sequence_dir / "image_2" / (stems_.front() + ".png");
     auto image = io::readPng8(first);
     if (!image) return parseError(fmt::format("cannot take the image size from {}", image.status().message()));
-    auto view = cameraFromProjection("image_2", *P2, T_C0_L, image->width(), image->height());
+    auto view = cameraFromProjection("image_2", *P_2, T_C0_L, image->width(), image->height());
     if (!view) return parseError(fmt::format("{}: {}", calib.path().string(), view.status().message()));
     camera_ = std::move(view.value());
     has_camera_ = true;

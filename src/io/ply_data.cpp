@@ -143,17 +143,20 @@ Result<std::vector<T>> PlyData::scalarAs(const std::string& element, const std::
   return std::visit(
       [](const auto& values) {
         std::vector<T> converted(values.size());
+        // NOLINTNEXTLINE(bugprone-signed-char-misuse): int8 columns hold numbers; sign extension is intended.
         for (std::size_t i = 0; i < values.size(); ++i) converted[i] = static_cast<T>(values[i]);
         return converted;
       },
       column->values);
 }
 
+// NOLINTBEGIN(bugprone-macro-parentheses): T is a type used as a template argument; it cannot be parenthesised.
 #define ARTEMIS_PLY_INSTANTIATE(T)                                                               \
   template Status PlyData::setScalar<T>(const std::string&, const std::string&, std::vector<T>); \
   template Status PlyData::setList<T>(const std::string&, const std::string&, PlyType,           \
                                       const std::vector<std::vector<T>>&);                       \
   template Result<std::vector<T>> PlyData::scalarAs<T>(const std::string&, const std::string&) const;
+// NOLINTEND(bugprone-macro-parentheses)
 
 ARTEMIS_PLY_INSTANTIATE(std::int8_t)
 ARTEMIS_PLY_INSTANTIATE(std::uint8_t)

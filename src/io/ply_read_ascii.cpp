@@ -143,6 +143,7 @@ class AsciiReader {
       if constexpr (std::is_signed_v<C>) {
         if (count < 0) return error(element, item, "negative list length for '" + property.name + "'");
       }
+      // NOLINTNEXTLINE(bugprone-signed-char-misuse): a negative int8 count was rejected just above.
       length = static_cast<std::uint32_t>(count);
       return parsed;
     });
