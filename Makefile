@@ -1,6 +1,6 @@
 # Convenience targets around CMake. Everything also works with plain
 #   cmake -S . -B <dir> -G Ninja && cmake --build <dir>
-.PHONY: build run test test-release test-asan install-check lint format clean
+.PHONY: build run bench test test-release test-asan install-check lint format clean
 
 JOBS ?= 2
 GENERATOR := $(shell command -v ninja >/dev/null 2>&1 && echo "-G Ninja")
@@ -10,9 +10,15 @@ build:
 	cmake -S . -B build $(GENERATOR) -DCMAKE_BUILD_TYPE=Release
 	cmake --build build -j $(JOBS)
 
-# The main job on the built-in default. Until the mesher lands: inspect the bundled KITTI drive.
+# The main job on the built-in default: simulate the demo street (30 frames, KITTI layout), then
+# read it back as a user would.
 run: build
-	build/bin/artemis dataset info
+	build/bin/artemis sim --preset demo --out out/demo --force
+	build/bin/artemis dataset info out/demo
+
+# Benchmarks (Release build): they print per-stage figures.
+bench: build
+	build/bench/sim_bench
 
 # Every test, twice: a Release build with warnings as errors, then an ASan/UBSan build.
 test: test-release test-asan

@@ -86,6 +86,9 @@ bool encode(png_structp png, png_infop info, const PngHeader* header, png_bytep*
   if (setjmp(png_jmpbuf(png))) return false;
   png_set_IHDR(png, info, header->width, header->height, header->bit_depth, header->color_type, PNG_INTERLACE_NONE,
                PNG_COMPRESSION_TYPE_DEFAULT, PNG_FILTER_TYPE_DEFAULT);
+  // zlib level 3 instead of the default 6: about twice as fast for a few per cent larger files,
+  // which matters when a sequence writes four images a frame.
+  png_set_compression_level(png, 3);
   png_write_info(png, info);
   png_write_image(png, rows);
   png_write_end(png, nullptr);

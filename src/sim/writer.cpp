@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <tbb/parallel_invoke.h>
 #include <bit>
 #include <cmath>
 #include <cstring>
@@ -157,14 +158,20 @@ Status writeFrame(const Simulator& sim, const fs::path& out, int frame, SimRepor
   const double camera_ms = watch.elapsedMs();
   watch.reset();
   std::vector<float> xyzi(4 * scan.points_L.size());
-  for (std::size_t i = 0; i < scan.points_L.size(); ++i)
+  for (std::size_t i = 0; i < scan.points_L.size(); ++i) {
     std::memcpy(&xyzi[4 * i], scan.points_L[i].data(), 4 * sizeof(float));
-  if (Status s = writeVector(seq / "velodyne" / (name + ".bin"), xyzi); !s.isOk()) return s;
-  if (Status s = writeVector(seq / "labels" / (name + ".label"), scan.labels); !s.isOk()) return s;
-  if (Status s = io::writePng(seq / "image_2" / (name + ".png"), images.rgb); !s.isOk()) return s;
-  if (Status s = io::writePng(out / "gt" / "semantic_2" / (name + ".png"), images.semantic); !s.isOk()) return s;
-  if (Status s = io::writePng(out / "gt" / "instance_2" / (name + ".png"), images.instance); !s.isOk()) return s;
-  if (Status s = io::writePng(out / "gt" / "depth_2" / (name + ".png"), images.depth_mm); !s.isOk()) return s;
+  }
+  // Six independent files: encode and write them side by side.
+  Status results[6];
+  tbb::parallel_invoke([&] { results[0] = writeVector(seq / "velodyne" / (name + ".bin"), xyzi); },
+                       [&] { results[1] = writeVector(seq / "labels" / (name + ".label"), scan.labels); },
+                       [&] { results[2] = io::writePng(seq / "image_2" / (name + ".png"), images.rgb); },
+                       [&] { results[3] = io::writePng(out / "gt" / "semantic_2" / (name + ".png"), images.semantic); },
+                       [&] { results[4] = io::writePng(out / "gt" / "instance_2" / (name + ".png"), images.instance); },
+                       [&] { results[5] = io::writePng(out / "gt" / "depth_2" / (name + ".png"), images.depth_mm); });
+  for (const Status& s : results) {
+    if (!s.isOk()) return s;
+  }
   if (report != nullptr) {
     report->points_per_frame.push_back(scan.points_L.size());
     report->lidar_ms.push_back(lidar_ms);
