@@ -76,7 +76,7 @@ Status prepareOutput(const fs::path& out, bool force) {
   if (!force) {
     return invalidArgument(fmt::format("{}: already holds a sequence; pass --force to replace it", out.string()));
   }
-  for (const char* sub : {"sequences", "poses", "gt", "scene.json"}) {
+  for (const char* sub : {"sequences", "poses", "gt", "preview", "scene.json"}) {
     fs::remove_all(out / sub, ec);
     if (ec) return ioError(fmt::format("{}: cannot be removed: {}", (out / sub).string(), ec.message()));
   }

@@ -55,6 +55,27 @@ const char* className(std::uint16_t class_id) {
   }
 }
 
+std::array<std::uint8_t, 3> classColor(std::uint16_t class_id) {
+  switch (class_id) {  // semantic-kitti.yaml's color_map, turned from BGR into RGB
+    case cls::kCar: return {100, 150, 245};
+    case cls::kBicycle: return {100, 230, 245};
+    case cls::kTruck: return {80, 30, 180};
+    case cls::kPerson: return {255, 30, 30};
+    case cls::kRoad: return {255, 0, 255};
+    case cls::kParking: return {255, 150, 255};
+    case cls::kSidewalk: return {75, 0, 75};
+    case cls::kBuilding: return {255, 200, 0};
+    case cls::kFence: return {255, 120, 50};
+    case cls::kVegetation: return {0, 175, 0};
+    case cls::kTrunk: return {135, 60, 0};
+    case cls::kTerrain: return {150, 240, 80};
+    case cls::kPole: return {255, 240, 150};
+    case cls::kTrafficSign: return {255, 0, 0};
+    case cls::kOtherObject: return {255, 255, 50};
+    default: return {0, 0, 0};
+  }
+}
+
 std::vector<ClassCount> countClasses(const Scene& scene) {
   std::map<std::uint16_t, ClassCount> by_class;
   std::map<std::pair<std::uint16_t, std::uint16_t>, bool> seen;

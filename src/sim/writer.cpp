@@ -57,6 +57,17 @@ std::uint8_t srgb8(float linear) {
   return static_cast<std::uint8_t>(std::lround(255.0 * s));
 }
 
+ImageU8 colourClasses(const ImageU16& classes) {
+  ImageU8 rgb(classes.width(), classes.height(), 3);
+  for (int v = 0; v < classes.height(); ++v) {
+    for (int u = 0; u < classes.width(); ++u) {
+      const auto c = classColor(classes.at(u, v));
+      for (int k = 0; k < 3; ++k) rgb.at(u, v, k) = c[static_cast<std::size_t>(k)];
+    }
+  }
+  return rgb;
+}
+
 Status writeMesh(const Simulator& sim, const fs::path& path) {
   const Scene& scene = sim.scene();
   const SceneMesh& m = scene.mesh;
@@ -124,8 +135,9 @@ std::string sceneJson(const Simulator& sim) {
 
 Status writeStatic(const Simulator& sim, const fs::path& out) {
   const fs::path seq = sequenceDir(out);
-  for (const fs::path& dir : {seq / "velodyne", seq / "labels", seq / "image_2", out / "poses",
-                              out / "gt" / "semantic_2", out / "gt" / "instance_2", out / "gt" / "depth_2"}) {
+  for (const fs::path& dir :
+       {seq / "velodyne", seq / "labels", seq / "image_2", out / "poses", out / "gt" / "semantic_2",
+        out / "gt" / "instance_2", out / "gt" / "depth_2", out / "preview"}) {
     if (Status s = makeDirs(dir); !s.isOk()) return s;
   }
   const KittiCalibration& c = kittiCalibration();
@@ -171,6 +183,11 @@ Status writeFrame(const Simulator& sim, const fs::path& out, int frame, SimRepor
                        [&] { results[5] = io::writePng(out / "gt" / "depth_2" / (name + ".png"), images.depth_mm); });
   for (const Status& s : results) {
     if (!s.isOk()) return s;
+  }
+  if (frame == 0 || frame == sim.frames() / 2) {
+    if (Status s = io::writePng(out / "preview" / (name + "_class.png"), colourClasses(images.semantic)); !s.isOk()) {
+      return s;
+    }
   }
   if (report != nullptr) {
     report->points_per_frame.push_back(scan.points_L.size());

@@ -130,8 +130,8 @@ TEST(SimWriter, SameSettingsGiveByteIdenticalFiles) {
     EXPECT_EQ(bytes(entry.path()), bytes(b.path() / relative)) << relative;
     ++files;
   }
-  // calib, times, poses, mesh, scene.json + 6 files a frame.
-  EXPECT_EQ(files, 5u + 6u * 2u);
+  // calib, times, poses, mesh, scene.json + 6 files a frame + class previews of frames 0 and 1.
+  EXPECT_EQ(files, 5u + 6u * 2u + 2u);
 
   // scene.json reproduces the run.
   std::ifstream in(a / "scene.json");

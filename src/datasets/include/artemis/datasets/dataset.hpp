@@ -64,7 +64,8 @@ class Dataset {
   // Whether the recording came with poses (otherwise they are the identity until setPoses()).
   [[nodiscard]] bool hasPoses() const { return has_poses_; }
   // T_W_L of the i-th frame of the range, without reading its scan. World = the recording's first
-  // LiDAR pose for KITTI raw, the first camera-0 pose for KITTI odometry (as its poses file).
+  // LiDAR pose, for KITTI raw and (when its poses file starts at the identity, as KITTI's and the
+  // simulator's do) for KITTI odometry.
   [[nodiscard]] const Isometry3d& pose(std::size_t i) const;
   [[nodiscard]] double stamp(std::size_t i) const;
   // Replaces the poses of the whole recording (e.g. with refined ones); one per recording frame.

@@ -113,5 +113,7 @@ std::vector<ClassCount> countClasses(const Scene& scene);
 
 // Name of a class id used by the street ("car", "traffic-sign", ...).
 const char* className(std::uint16_t class_id);
+// SemanticKITTI's display colour (RGB) of a class id used by the street; black for 0 (sky).
+std::array<std::uint8_t, 3> classColor(std::uint16_t class_id);
 
 }  // namespace artemis::sim

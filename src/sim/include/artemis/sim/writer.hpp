@@ -15,6 +15,8 @@
 //   <out>/gt/instance_2/NNNNNN.png           16-bit instance id per pixel (0: sky)
 //   <out>/gt/depth_2/NNNNNN.png              16-bit depth along the optical axis, mm (0: none)
 //   <out>/scene.json                         every setting (reproduces the run) and the objects
+//   <out>/preview/NNNNNN_class.png           class image in SemanticKITTI's colours, for the first
+//                                            and the middle frame (to look at; the ids are above)
 //
 // Every file is written atomically; the same settings give byte-identical files.
 
