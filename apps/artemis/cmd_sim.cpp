@@ -44,6 +44,9 @@ double median(std::vector<double> v) {
 Result<sim::SimParams> effectiveParams(const SimFlags& flags) {
   sim::SimParams params;
   if (!flags.params_file.empty()) {
+    std::error_code ec;
+    if (!fs::is_regular_file(flags.params_file, ec))
+      return notFound(fmt::format("{}: no such file", flags.params_file));
     std::ifstream in(flags.params_file);
     if (!in) return notFound(fmt::format("{}: cannot be read", flags.params_file));
     std::stringstream text;
@@ -161,7 +164,7 @@ void addSimCommand(CLI::App& app, int& exit_code) {
                   "Start from the settings in this JSON file (a scene.json written earlier reproduces its run)")
       ->excludes("--preset");
   cmd->add_option("--frames", flags->frames, "Number of frames (10 Hz)");
-  cmd->add_option("--seed", flags->seed, "Seed of the procedural street");
+  cmd->add_option("--seed", flags->seed, "Seed of the procedural street")->check(CLI::NonNegativeNumber);
   cmd->add_option("--street-length", flags->street_length_m, "Street length (m); grows to fit the drive");
   cmd->add_option("--range-noise", flags->range_noise_m, "LiDAR range noise sigma (m)");
   cmd->add_option("--dropout", flags->dropout, "Probability that a LiDAR return is lost");

@@ -2,7 +2,11 @@
 
 #include <fmt/format.h>
 
+#include <cmath>
+#include <cstdint>
+#include <limits>
 #include <nlohmann/json.hpp>
+#include <type_traits>
 
 namespace artemis::sim {
 
@@ -110,6 +114,16 @@ Result<SimParams> paramsFromJson(const std::string& text) {
                           value.dump());
       return;
     }
+    if constexpr (std::is_integral_v<T>) {
+      const bool fits = value.is_number_unsigned()
+                            ? value.get<std::uint64_t>() <= static_cast<std::uint64_t>(std::numeric_limits<T>::max())
+                            : value.get<std::int64_t>() >= static_cast<std::int64_t>(std::numeric_limits<T>::min()) &&
+                                  value.get<std::int64_t>() <= static_cast<std::int64_t>(std::numeric_limits<T>::max());
+      if (!fits) {
+        error = fmt::format("'{}': {} is out of range", key, value.dump());
+        return;
+      }
+    }
     field = value.get<T>();
   });
   if (!error.empty()) return parseError(error);
@@ -141,8 +155,8 @@ Status validate(const SimParams& p) {
   const auto fail = [](const std::string& what) { return invalidArgument("simulator settings: " + what); };
   if (p.frames < 1 || p.frames > 100000) return fail(fmt::format("frames must be in 1..100000 (got {})", p.frames));
   const SceneParams& s = p.scene;
-  if (!(s.lane_width_m > 0 && s.parking_width_m > 0 && s.sidewalk_width_m > 0 && s.verge_width_m >= 3.0)) {
-    return fail("lane, parking and sidewalk widths must be positive and the verge at least 3 m wide");
+  if (!(s.lane_width_m > 0 && s.parking_width_m > 0 && s.sidewalk_width_m > 0 && s.verge_width_m >= 4.0)) {
+    return fail("lane, parking and sidewalk widths must be positive and the verge at least 4 m wide (tree crowns)");
   }
   if (!(s.curb_height_m >= 0 && s.curb_height_m < 0.5)) return fail("curb_height_m must be in [0, 0.5)");
   if (!(s.max_edge_m >= 0.05 && s.max_edge_m <= 5.0)) return fail("max_edge_m must be in [0.05, 5]");
@@ -174,6 +188,13 @@ Status validate(const SimParams& p) {
     return fail("speed_period_s and lateral_wavelength_m must be positive");
   if (!(std::abs(t.lateral_amplitude_m) <= 1.0)) return fail("lateral_amplitude_m must be within +-1 m (the lane)");
   if (!(t.start_x_m >= 20 && t.start_x_m <= 500)) return fail("start_x_m must be in [20, 500]");
+  // The street grows with the drive; keep it (and its 16-bit instance ids) within bounds.
+  const double drive_s = (p.frames - 1) / t.frame_rate_hz;
+  const double drive_m = (t.speed_mean_mps + std::abs(t.speed_amplitude_mps)) * drive_s;
+  if (drive_m + 2 * t.start_x_m > 10000.0) {
+    return fail(fmt::format("the drive would need a street of {:.0f} m; at most 10 km (fewer frames)",
+                            drive_m + 2 * t.start_x_m));
+  }
   return Status::ok();
 }
 

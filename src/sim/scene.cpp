@@ -5,6 +5,7 @@
 #include <cmath>
 #include <map>
 #include <numbers>
+#include <stdexcept>
 #include <utility>
 
 #include "artemis/sim/scene.hpp"
@@ -155,6 +156,9 @@ class StreetBuilder {
 
   std::uint32_t addObject(const std::string& kind, std::uint16_t class_id, const Vector3d& position, double yaw,
                           const Vector3d& size, const Vector3f& color, int variant, Material material) {
+    if (scene_.objects.size() >= 0xFFFFu) {
+      throw std::length_error("sim: more than 65535 objects; instance ids are 16-bit (shorten the street)");
+    }
     SceneObject o;
     o.kind = kind;
     o.class_id = class_id;
@@ -384,7 +388,7 @@ class StreetBuilder {
     builder_.setMaterial(Material::kCarCabin);
     builder_.frustum(T, {s.cabin_b0 * len, -hw + 0.06}, {s.cabin_b1 * len, hw - 0.06}, s.body_z1,
                      {s.cabin_t0 * len, -hw + 0.2}, {s.cabin_t1 * len, hw - 0.2}, s.cabin_z1, false);
-    wheels(T, hl - 0.8, hw - 0.05, 0.32, 0.22);
+    wheels(T, hl - 0.8, hw, 0.32, 0.22);  // tyres flush with the body: a car at the curb touches it
   }
 
   void wheels(const Isometry3d& T, double axle_x, double outer_y, double radius, double tyre_width) {
@@ -425,8 +429,8 @@ class StreetBuilder {
       const double mean_gap = std::max(0.5, scene_.length_m / std::max(1, side_vehicles) - 5.0);
       double x = rng_.uniform(2.0, 6.0);
       for (int placed = 0; placed < side_vehicles && (cars_left + trucks_left) > 0; ++placed) {
-        const bool truck =
-            trucks_left > 0 && rng_.uniform() < static_cast<double>(trucks_left) / (cars_left + trucks_left);
+        const bool truck = trucks_left > 0 && (placed == 2 || rng_.uniform() < static_cast<double>(trucks_left) /
+                                                                                   (cars_left + trucks_left));
         const int variant = rng_.integer(0, 2);
         const double len = truck ? 7.5 : (variant == 1 ? rng_.uniform(3.9, 4.2) : rng_.uniform(4.5, 4.9));
         const double width = truck ? 2.5 : (variant == 2 ? 1.9 : rng_.uniform(1.72, 1.82));

@@ -121,6 +121,7 @@ Isometry3d Simulator::T_S_L(int frame) const {
 }
 
 Isometry3d Simulator::T_W_L(int frame) const {
+  if (frame == 0) return Isometry3d::Identity();  // exactly, not up to rounding
   return T_S_W_.inverse() * T_S_L(frame);
 }
 

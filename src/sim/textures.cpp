@@ -80,7 +80,9 @@ Vector3f grass(const Vector3d& p) {
 
 // Facade: windows and doors on a grid of floors (3 m) and bays; bricks or plaster in between.
 Vector3f facade(const SceneObject& o, const Vector3d& p_O, const Vector3d& n_O, bool brick) {
-  const double u = std::abs(n_O.y()) >= std::abs(n_O.x()) ? p_O.x() : std::abs(p_O.y());
+  const bool front_or_back = std::abs(n_O.y()) >= std::abs(n_O.x());
+  const double u = front_or_back ? p_O.x() : std::abs(p_O.y());
+  const double wall_length = front_or_back ? o.size_m.x() : o.size_m.y();
   const double v = p_O.z();
   const double bay = 2.5 + 0.35 * o.variant;
   const double floor_h = 3.0;
@@ -89,7 +91,7 @@ Vector3f facade(const SceneObject& o, const Vector3d& p_O, const Vector3d& n_O, 
   const auto bay_index = static_cast<std::int64_t>(std::floor(u / bay));
   const double fu = u - static_cast<double>(bay_index) * bay;
   const bool door_bay = floor == 0 && hash(o.instance_id, static_cast<std::uint64_t>(bay_index)) % 4 == 0;
-  const bool inner_bay = u > 0.8 && u < o.size_m.x() - 0.8 && (u < bay * std::floor(o.size_m.x() / bay));
+  const bool inner_bay = u > 0.8 && u < wall_length - 0.8 && (u < bay * std::floor(wall_length / bay));
   if (inner_bay && v < o.size_m.z() - 0.8) {
     if (door_bay && std::abs(fu - bay / 2) < 0.55 && fv < 2.2) {
       if (std::abs(fu - bay / 2) > 0.49 || fv > 2.14) return grey(0.75);  // frame

@@ -16,7 +16,9 @@ namespace {
 
 using test::RunResult;
 
-RunResult run(const std::string& args) { return test::runCli(args); }
+RunResult run(const std::string& args) {
+  return test::runCli(args);
+}
 
 std::string rawPath() {
   return (test::dataDir() / "kitti_raw").string();

@@ -80,6 +80,9 @@ TEST(SimLidar, LabelIsTheClassOfTheTriangleHit) {
     for (std::size_t i = 0; i < scan.points_L.size(); i += 7) {
       const Eigen::Vector3d p_S = T_S_L * scan.points_L[i].head<3>().cast<double>();
       const std::uint32_t label = scan.labels[i];
+      // Surfaces face outward: no ray hits the back of a face.
+      const Eigen::Vector3d ray = p_S - T_S_L.translation();
+      ASSERT_LT(mesh.faceNormal(scan.faces[i]).dot(ray), 0.0) << "back face hit at point " << i;
       bool ok = false;
       for (std::uint32_t f : grid.within(p_S, 2e-3)) {
         ok = ok || (mesh.face_class[f] == (label & 0xFFFFu) && mesh.face_instance[f] == (label >> 16));

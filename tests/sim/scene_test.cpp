@@ -77,6 +77,20 @@ TEST(SimScene, CarsTouchTheCurbAndEachOtherPeopleStandTogether) {
     }
   }
   EXPECT_GE(at_curb, 2);
+  // On the mesh: those cars' tyres reach the curb's face.
+  const SceneMesh& m = scene.mesh;
+  int tyres_at_curb = 0;
+  for (std::size_t f = 0; f < m.faceCount(); ++f) {
+    if (m.face_material[f] != Material::kRubber || m.face_class[f] != cls::kCar) continue;
+    for (std::uint32_t v : m.triangles[f]) {
+      if (std::abs(std::abs(static_cast<double>(m.vertices[v].y())) - curb_y) < 1e-4 &&
+          m.vertices[v].z() < p.curb_height_m) {
+        ++tyres_at_curb;
+        break;
+      }
+    }
+  }
+  EXPECT_GE(tyres_at_curb, 2);
   EXPECT_GE(touching, 1);
   int pairs = 0;
   for (const auto& a : scene.objects) {
@@ -170,6 +184,11 @@ TEST(SimParams, JsonRoundTripAndErrors) {
   EXPECT_FALSE(fractional);
   auto negative_seed = paramsFromJson(R"({"scene": {"seed": -1}})");
   EXPECT_FALSE(negative_seed);
+  auto huge = paramsFromJson(R"({"frames": 4294967297})");  // would wrap to 1 as a 32-bit int
+  ASSERT_FALSE(huge);
+  EXPECT_NE(huge.status().message().find("out of range"), std::string::npos) << huge.status().message();
+  auto endless = paramsFromJson(R"({"frames": 100000, "trajectory": {"frame_rate_hz": 0.5}})");
+  EXPECT_FALSE(endless);
   EXPECT_FALSE(paramsFromJson("{not json"));
   auto invalid = paramsFromJson(R"({"frames": 0})");
   ASSERT_FALSE(invalid);

@@ -51,7 +51,7 @@ struct LidarParams {
 };
 
 // KITTI's image_02 (2011_09_26 calibration): rectified pinhole, mounted with KITTI's LiDAR-camera
-// extrinsics (set in sensors.cpp from calib_velo_to_cam, R_rect_00 and P_rect_02).
+// extrinsics (set in simulator.cpp from calib_velo_to_cam, R_rect_00 and P_rect_02).
 struct CameraParams {
   int width_px = 1242;
   int height_px = 375;

@@ -103,7 +103,8 @@ struct Scene {
 // same scene, vertex for vertex.
 Scene generateScene(const SceneParams& params, double min_length_m);
 
-// Objects per class id, and instances per class id, for the table `artemis sim` prints.
+// Per class id: how many objects have faces of that class (a traffic sign's post counts as a pole,
+// a tree counts as vegetation and as trunk) and how many faces; the table `artemis sim` prints.
 struct ClassCount {
   std::uint16_t class_id = 0;
   std::size_t objects = 0;
