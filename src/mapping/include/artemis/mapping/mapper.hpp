@@ -1,0 +1,66 @@
+#pragma once
+// Stage 1 of the Living Map, geometry part: each frame's points go into the voxel map (1a) and the
+// voxels that changed enough are re-meshed (1c), in parallel over voxels. Re-meshing is deferred
+// for a voxel until its points have grown by `remesh_growth` since it was last meshed, so that a
+// voxel gaining a point or two per scan is not re-triangulated every frame; finish() meshes every
+// voxel still pending. Results do not depend on the thread count.
+
+#include <memory>
+
+#include "artemis/core/point_cloud.hpp"
+#include "artemis/core/transform.hpp"
+#include "artemis/mapping/incremental_mesher.hpp"
+#include "artemis/mapping/semantic_mesh.hpp"
+#include "artemis/mapping/voxel_map.hpp"
+
+namespace artemis::mapping {
+
+struct MapperParams {
+  VoxelMapParams voxels;
+  MesherParams mesher;
+  // A voxel is re-meshed once its points grew by this share since the last meshing (1: doubled)
+  // and by at least remesh_min_new points; first meshed once it holds first_mesh_points. On KITTI
+  // this cut the voxels meshed per frame from ~9000 to ~3000 with the same final mesh.
+  double remesh_growth = 1.0;
+  int remesh_min_new = 3;
+  int first_mesh_points = 8;
+  int threads = 0;  // 0: all cores
+};
+
+struct FrameStats {
+  double insert_ms = 0.0;
+  double mesh_ms = 0.0;
+  std::size_t points = 0;         // points given
+  std::size_t points_kept = 0;    // new mesh vertices
+  std::size_t active_voxels = 0;  // voxels that gained points
+  std::size_t meshed_voxels = 0;  // voxels re-meshed this frame
+};
+
+class Mapper {
+ public:
+  explicit Mapper(const MapperParams& params);
+  ~Mapper();
+  Mapper(const Mapper&) = delete;
+  Mapper& operator=(const Mapper&) = delete;
+
+  FrameStats integrate(const PointCloud& points_L, const Isometry3d& T_W_L);
+  // Meshes every voxel with points added since it was last meshed. Returns how many.
+  std::size_t finish();
+
+  [[nodiscard]] const SemanticMesh& mesh() const { return mesh_; }
+  [[nodiscard]] const VoxelMap& voxels() const { return map_; }
+  [[nodiscard]] const MapperParams& params() const { return params_; }
+
+ private:
+  std::size_t meshVoxels(const std::vector<VoxelKey>& keys);
+
+  MapperParams params_;
+  VoxelMap map_;
+  SemanticMesh mesh_;
+  IncrementalMesher mesher_;
+  std::vector<Eigen::Vector3f> points_W_;
+  struct Arena;
+  std::unique_ptr<Arena> arena_;
+};
+
+}  // namespace artemis::mapping

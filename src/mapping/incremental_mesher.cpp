@@ -1,0 +1,138 @@
+#include "artemis/mapping/incremental_mesher.hpp"
+
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <numbers>
+#include <utility>
+
+#include "delaunay.hpp"
+
+namespace artemis::mapping {
+
+using Eigen::Vector2d;
+using Eigen::Vector3d;
+using Eigen::Vector3f;
+
+IncrementalMesher::IncrementalMesher(const MesherParams& params)
+    : params_(params),
+      min_sin_angle_(std::sin(params.min_angle_deg * std::numbers::pi / 180.0)),
+      min_cos_plane_(std::cos(params.max_plane_angle_deg * std::numbers::pi / 180.0)) {}
+
+namespace {
+
+// Smallest angle's sine of triangle abc, from its edge vectors (0 for degenerate triangles).
+double minSinAngle(const Vector3d& a, const Vector3d& b, const Vector3d& c) {
+  const Vector3d ab = b - a;
+  const Vector3d bc = c - b;
+  const Vector3d ca = a - c;
+  const double twice_area = ab.cross(-ca).norm();
+  const double lab = ab.norm();
+  const double lbc = bc.norm();
+  const double lca = ca.norm();
+  if (twice_area <= 0.0 || lab <= 0.0 || lbc <= 0.0 || lca <= 0.0) return 0.0;
+  // sin(angle at a) = 2A / (|ab| |ca|), and so on; the smallest angle is opposite the shortest edge.
+  return std::min({twice_area / (lab * lca), twice_area / (lab * lbc), twice_area / (lbc * lca)});
+}
+
+}  // namespace
+
+VoxelMeshResult IncrementalMesher::meshVoxel(const VoxelMap& map, const SemanticMesh& mesh, const VoxelKey& key) const {
+  VoxelMeshResult result;
+  result.key = key;
+  const Voxel* voxel = map.find(key);
+  if (voxel == nullptr || static_cast<int>(voxel->vertices.size()) < params_.min_points) return result;
+  const auto& views = mesh.viewDirections();
+
+  // Plane of the voxel's own points (PCA).
+  Vector3d centroid = Vector3d::Zero();
+  for (const Vector3f& p : voxel->points) centroid += p.cast<double>();
+  centroid /= static_cast<double>(voxel->points.size());
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  for (const Vector3f& p : voxel->points) {
+    const Vector3d d = p.cast<double>() - centroid;
+    covariance += d * d.transpose();
+  }
+  // Which side the sensors saw the surface from: a few view directions suffice.
+  Vector3d view = Vector3d::Zero();
+  for (std::size_t i = 0; i < voxel->vertices.size(); i += 1 + voxel->vertices.size() / 8) {
+    view += views[voxel->vertices[i]].cast<double>();
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(covariance);
+  const Vector3d lambda = eigen.eigenvalues().cwiseMax(0.0);                              // ascending
+  if (!(lambda(2) > 0.0) || lambda(1) < params_.linear_ratio * lambda(2)) return result;  // a line
+  Vector3d normal = eigen.eigenvectors().col(0);
+  if (normal.dot(view) < 0.0) normal = -normal;
+  const bool planar = lambda(0) <= params_.nonplanar_ratio * lambda(1);
+  const double max_edge = planar ? params_.max_edge_m : params_.max_edge_nonplanar_m;
+  const Vector3d u = eigen.eigenvectors().col(2);
+  const Vector3d w = normal.cross(u);
+
+  // Own points, then the rim: neighbours' points within rim_m of this voxel's box.
+  std::vector<std::uint32_t> ids(voxel->vertices.begin(), voxel->vertices.end());
+  std::vector<Vector3f> points(voxel->points.begin(), voxel->points.end());
+  const float size = map.voxelSize();
+  const Vector3f lo = Vector3f(static_cast<float>(key.x), static_cast<float>(key.y), static_cast<float>(key.z)) * size -
+                      Vector3f::Constant(static_cast<float>(params_.rim_m));
+  const Vector3f hi = lo + Vector3f::Constant(size + 2.0f * static_cast<float>(params_.rim_m));
+  for (int dx = -1; dx <= 1; ++dx) {
+    for (int dy = -1; dy <= 1; ++dy) {
+      for (int dz = -1; dz <= 1; ++dz) {
+        // Face and edge neighbours only: a corner neighbour's rim share is a cube of rim_m a side.
+        const int moved = std::abs(dx) + std::abs(dy) + std::abs(dz);
+        if (moved == 0 || moved == 3) continue;
+        const Voxel* n = map.find({key.x + dx, key.y + dy, key.z + dz});
+        if (n == nullptr) continue;
+        for (std::size_t i = 0; i < n->points.size(); ++i) {
+          const Vector3f& p = n->points[i];
+          if ((p.array() >= lo.array()).all() && (p.array() <= hi.array()).all()) {
+            ids.push_back(n->vertices[i]);
+            points.push_back(p);
+          }
+        }
+      }
+    }
+  }
+
+  std::vector<Vector2d> projected(points.size());
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Vector3d d = points[i].cast<double>() - centroid;
+    projected[i] = Vector2d(d.dot(u), d.dot(w));
+  }
+  const auto triangles = detail::delaunay2d(projected);
+
+  const float inv_size = 1.0f / size;
+  for (const auto& t : triangles) {
+    const auto ia = static_cast<std::size_t>(t[0]);
+    const auto ib = static_cast<std::size_t>(t[1]);
+    const auto ic = static_cast<std::size_t>(t[2]);
+    const std::uint32_t a = ids[ia];
+    const std::uint32_t b = ids[ib];
+    const std::uint32_t c = ids[ic];
+    // Centroid summed in vertex-id order, so that every voxel computes the same bits for the same
+    // face and exactly one owns it.
+    std::array<std::pair<std::uint32_t, std::size_t>, 3> sorted{{{a, ia}, {b, ib}, {c, ic}}};
+    std::sort(sorted.begin(), sorted.end());
+    const Vector3f centre = (points[sorted[0].second] + points[sorted[1].second] + points[sorted[2].second]) / 3.0f;
+    if (!(voxelKeyOf(centre, inv_size) == key)) continue;  // a neighbour owns it
+    const Vector3d pa = points[ia].cast<double>();
+    const Vector3d pb = points[ib].cast<double>();
+    const Vector3d pc = points[ic].cast<double>();
+    if ((pb - pa).norm() > max_edge || (pc - pb).norm() > max_edge || (pa - pc).norm() > max_edge) continue;
+    if (minSinAngle(pa, pb, pc) < min_sin_angle_) continue;
+    Vector3d face_normal = (pb - pa).cross(pc - pa);
+    const double length = face_normal.norm();
+    if (length <= 0.0) continue;
+    face_normal /= length;
+    const double cos_plane = face_normal.dot(normal);
+    if (std::abs(cos_plane) < min_cos_plane_) continue;
+    // Wind so that the face normal points to the sensor side of the plane.
+    result.faces.push_back(cos_plane > 0.0 ? Face{a, b, c} : Face{a, c, b});
+  }
+  result.normal = normal.cast<float>();
+  return result;
+}
+
+}  // namespace artemis::mapping

@@ -1,0 +1,119 @@
+#include "artemis/mapping/mapper.hpp"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+#include <tbb/task_arena.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "artemis/core/timer.hpp"
+
+namespace artemis::mapping {
+
+struct Mapper::Arena {
+  explicit Arena(int threads) : arena(threads > 0 ? threads : tbb::task_arena::automatic) {}
+  tbb::task_arena arena;
+};
+
+namespace {
+
+// Interleaves the low 21 bits of x, y and z (Morton order): voxels meshed one after the other are
+// then mostly neighbours, whose points the previous voxel's rim already brought into the cache.
+std::uint64_t morton(const VoxelKey& k) {
+  const auto spread = [](std::uint32_t v) {
+    std::uint64_t x = v & 0x1FFFFFu;
+    x = (x | (x << 32)) & 0x1F00000000FFFFull;
+    x = (x | (x << 16)) & 0x1F0000FF0000FFull;
+    x = (x | (x << 8)) & 0x100F00F00F00F00Full;
+    x = (x | (x << 4)) & 0x10C30C30C30C30C3ull;
+    x = (x | (x << 2)) & 0x1249249249249249ull;
+    return x;
+  };
+  return spread(static_cast<std::uint32_t>(k.x)) | (spread(static_cast<std::uint32_t>(k.y)) << 1) |
+         (spread(static_cast<std::uint32_t>(k.z)) << 2);
+}
+
+void sortSpatially(std::vector<VoxelKey>& keys) {
+  std::sort(keys.begin(), keys.end(), [](const VoxelKey& a, const VoxelKey& b) {
+    const std::uint64_t ma = morton(a);
+    const std::uint64_t mb = morton(b);
+    return ma != mb ? ma < mb : a < b;
+  });
+}
+
+}  // namespace
+
+Mapper::Mapper(const MapperParams& params)
+    : params_(params), map_(params.voxels), mesher_(params.mesher), arena_(std::make_unique<Arena>(params.threads)) {}
+
+Mapper::~Mapper() = default;
+
+FrameStats Mapper::integrate(const PointCloud& points_L, const Isometry3d& T_W_L) {
+  FrameStats stats;
+  stats.points = points_L.size();
+  mesh_.beginFrame();
+  Stopwatch clock;
+  const Eigen::Matrix3f R = T_W_L.linear().cast<float>();
+  const Eigen::Vector3f t = T_W_L.translation().cast<float>();
+  std::vector<Eigen::Vector3f>& points_W = points_W_;  // reused: no fresh pages every frame
+  points_W.resize(points_L.size());
+  for (std::size_t i = 0; i < points_L.size(); ++i) points_W[i] = R * points_L.points[i] + t;
+  const std::size_t vertices_before = mesh_.vertexCount();
+  const std::vector<VoxelKey> active = map_.insert(points_W, t, mesh_);
+  stats.points_kept = mesh_.vertexCount() - vertices_before;
+  stats.active_voxels = active.size();
+  stats.insert_ms = clock.elapsedMs();
+
+  clock.reset();
+  std::vector<VoxelKey> due;
+  for (const VoxelKey& key : active) {
+    const Voxel& v = *map_.find(key);
+    const auto now = static_cast<double>(v.vertices.size());
+    const auto before = static_cast<double>(v.points_when_meshed);
+    const double grown = now - before;
+    const bool first = before == 0.0 && now >= params_.first_mesh_points;
+    if (first || (before > 0.0 &&
+                  grown >= std::max(static_cast<double>(params_.remesh_min_new), params_.remesh_growth * before))) {
+      due.push_back(key);
+    }
+  }
+  sortSpatially(due);
+  stats.meshed_voxels = meshVoxels(due);
+  stats.mesh_ms = clock.elapsedMs();
+  return stats;
+}
+
+std::size_t Mapper::finish() {
+  mesh_.beginFrame();
+  std::vector<VoxelKey> pending;
+  for (const VoxelKey& key : map_.keys()) {
+    const Voxel& v = *map_.find(key);
+    if (v.vertices.size() > v.points_when_meshed) pending.push_back(key);
+  }
+  sortSpatially(pending);
+  return meshVoxels(pending);
+}
+
+std::size_t Mapper::meshVoxels(const std::vector<VoxelKey>& keys) {
+  std::vector<VoxelMeshResult> results(keys.size());
+  arena_->arena.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, keys.size(), 16), [&](const auto& range) {
+      for (std::size_t i = range.begin(); i < range.end(); ++i) results[i] = mesher_.meshVoxel(map_, mesh_, keys[i]);
+    });
+  });
+  // Apply in key order of the input: deterministic whatever the thread count.
+  for (VoxelMeshResult& r : results) {
+    Voxel& v = *map_.find(r.key);
+    v.points_when_meshed = static_cast<std::uint32_t>(v.vertices.size());
+    if (r.normal != Eigen::Vector3f::Zero()) {
+      for (std::uint32_t id : v.vertices) mesh_.setNormal(id, r.normal);
+    }
+    const std::vector<Face>* old = mesh_.voxelFaces(r.key);
+    if (old == nullptr && r.faces.empty()) continue;
+    mesh_.setVoxelFaces(r.key, std::move(r.faces));
+  }
+  return keys.size();
+}
+
+}  // namespace artemis::mapping

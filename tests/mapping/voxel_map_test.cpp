@@ -1,0 +1,62 @@
+// The voxel map against brute force: one point per sub-cell, the active set, bad points.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <set>
+
+#include "artemis/mapping/voxel_map.hpp"
+
+namespace artemis::mapping {
+namespace {
+
+TEST(VoxelMap, KeepsOnePointPerSubCellAndReportsActiveVoxels) {
+  VoxelMap map({.voxel_size_m = 0.4, .subdivisions = 8});
+  SemanticMesh mesh;
+  std::vector<Eigen::Vector3f> points;
+  // A 1 m x 1 m patch sampled every 1 cm: 0.05 m sub-cells keep 20 x 20 points.
+  for (int i = 0; i < 100; ++i) {
+    for (int j = 0; j < 100; ++j)
+      points.emplace_back(0.005f + 0.01f * static_cast<float>(i), 0.005f + 0.01f * static_cast<float>(j), 0.02f);
+  }
+  const auto active = map.insert(points, {0, 0, 2}, mesh);
+  EXPECT_EQ(mesh.vertexCount(), 400u);
+  // Voxels touched: x and y in [0, 1) span keys 0..2 each, z key 0.
+  std::set<std::tuple<int, int, int>> expected;
+  for (const auto& p : points) {
+    expected.emplace(static_cast<int>(std::floor(p.x() / 0.4f)), static_cast<int>(std::floor(p.y() / 0.4f)), 0);
+  }
+  EXPECT_EQ(active.size(), expected.size());
+  std::set<std::tuple<int, int, int>> got;
+  for (const auto& k : active) got.emplace(k.x, k.y, k.z);
+  EXPECT_EQ(got, expected);
+
+  // The same scan again adds nothing and activates nothing.
+  EXPECT_TRUE(map.insert(points, {0, 0, 2}, mesh).empty());
+  EXPECT_EQ(mesh.vertexCount(), 400u);
+  // A point in an empty sub-cell activates exactly its voxel.
+  const auto one = map.insert({{0.1f, 0.1f, 0.3f}}, {0, 0, 2}, mesh);
+  ASSERT_EQ(one.size(), 1u);
+  EXPECT_EQ(one[0], (VoxelKey{0, 0, 0}));
+  EXPECT_EQ(mesh.vertexCount(), 401u);
+  // Vertices remember their voxel and point towards the sensor.
+  EXPECT_EQ(mesh.voxels().back(), (VoxelKey{0, 0, 0}));
+  EXPECT_GT(mesh.viewDirections().back().z(), 0.9f);
+}
+
+TEST(VoxelMap, NegativeCoordinatesAndBadPoints) {
+  VoxelMap map({.voxel_size_m = 0.5, .subdivisions = 4});
+  SemanticMesh mesh;
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const float inf = std::numeric_limits<float>::infinity();
+  const auto active =
+      map.insert({{-0.01f, -0.26f, -1.0f}, {nan, 0, 0}, {0, inf, 0}, {-0.49f, -0.49f, -0.99f}}, {0, 0, 0}, mesh);
+  ASSERT_EQ(active.size(), 1u);
+  EXPECT_EQ(active[0], (VoxelKey{-1, -1, -2}));
+  EXPECT_EQ(mesh.vertexCount(), 2u);
+  EXPECT_THROW(VoxelMap({.voxel_size_m = 0.0, .subdivisions = 8}), std::invalid_argument);
+  EXPECT_THROW(VoxelMap({.voxel_size_m = 0.4, .subdivisions = 9}), std::invalid_argument);
+}
+
+}  // namespace
+}  // namespace artemis::mapping
