@@ -1,0 +1,203 @@
+// artemis eval mesh (later: eval semantics, eval texture): scores written results against
+// references. The evaluators read files, never the mapper's internals.
+#include <fmt/format.h>
+
+#include <fstream>
+#include <functional>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <optional>
+
+#include "artemis/core/log.hpp"
+#include "artemis/core/timer.hpp"
+#include "artemis/eval/geometry.hpp"
+#include "commands.hpp"
+#include "progress.hpp"
+
+namespace artemis::cli {
+namespace {
+
+struct MeshEvalFlags {
+  std::string mesh;
+  std::string reference;
+  std::string seen;
+  std::string json;
+  eval::GeometryParams params;
+  double seen_radius_m = eval::Reference{}.seen_radius_m;
+  double seen_plane_tolerance_m = eval::Reference{}.seen_plane_tolerance_m;
+};
+
+nlohmann::ordered_json settingsJson(const MeshEvalFlags& flags) {
+  const auto& p = flags.params;
+  nlohmann::ordered_json j{{"tau_m", p.taus_m},
+                           {"samples_per_m2", p.samples_per_m2},
+                           {"min_samples", p.min_samples},
+                           {"crop_padding_m", p.crop_padding_m},
+                           {"seed", p.seed}};
+  if (!flags.seen.empty()) {
+    j["seen_radius_m"] = flags.seen_radius_m;
+    j["seen_plane_tolerance_m"] = flags.seen_plane_tolerance_m;
+  }
+  return j;
+}
+
+std::string describe(const eval::MeshArrays& geometry) {
+  if (geometry.triangles.empty()) return fmt::format("cloud of {} points", geometry.vertices.size());
+  return fmt::format("mesh of {} vertices, {} triangles", geometry.vertices.size(), geometry.triangles.size());
+}
+
+// One progress line per stage of the evaluation ("precision at 0.10 m 1200000/2400000 ..."), and
+// the stage's time at debug level.
+class StageProgress {
+ public:
+  void operator()(const std::string& stage, std::size_t done, std::size_t total) {
+    if (stage != stage_) {
+      finish();
+      stage_ = stage;
+      line_ = std::make_unique<ProgressLine>(stage, "points");
+    }
+    line_->update(done, total);
+  }
+  void finish() {
+    if (!line_) return;
+    line_.reset();
+    log::debug("{}: {:.2f} s", stage_, clock_.elapsedS());
+    clock_.reset();
+  }
+
+ private:
+  std::string stage_;
+  std::unique_ptr<ProgressLine> line_;
+  Stopwatch clock_;
+};
+
+Status writeJson(const MeshEvalFlags& flags, const std::vector<eval::GeometryScore>& scores, double seconds) {
+  nlohmann::ordered_json j;
+  j["mesh"] = flags.mesh;
+  j["reference"] = flags.reference;
+  j["seen"] = flags.seen.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(flags.seen);
+  j["settings"] = settingsJson(flags);
+  j["scores"] = nlohmann::ordered_json::array();
+  for (const auto& s : scores) {
+    j["scores"].push_back({{"tau_m", s.tau_m},
+                           {"precision", s.precision},
+                           {"recall", s.recall},
+                           {"f1", s.f1},
+                           {"mesh_points", s.mesh_points},
+                           {"reference_points", s.reference_points}});
+  }
+  j["seconds"] = seconds;
+  std::ofstream out(flags.json);
+  if (!out) return ioError(fmt::format("{}: cannot be opened for writing", flags.json));
+  out << j.dump(2) << '\n';
+  out.close();
+  if (!out) return ioError(fmt::format("{}: write failed", flags.json));
+  return Status::ok();
+}
+
+int runMeshEval(const MeshEvalFlags& flags) {
+  if (Status s = eval::validate(flags.params); !s.isOk()) {
+    log::error("{}", s.message());
+    return 1;
+  }
+  if (!flags.seen.empty() && !(flags.seen_radius_m > 0.0)) {
+    log::error("--seen-radius must be > 0 m, got {}", flags.seen_radius_m);
+    return 1;
+  }
+  log::info("settings: {}", settingsJson(flags).dump());
+  Stopwatch clock;
+  auto mesh = eval::readMeshArrays(flags.mesh);
+  if (!mesh) {
+    log::error("{}", mesh.status().message());
+    return 1;
+  }
+  if (mesh->triangles.empty()) {
+    log::error("{}: has no faces; eval mesh scores a triangle mesh", flags.mesh);
+    return 1;
+  }
+  eval::Reference reference;
+  auto geometry = eval::readMeshArrays(flags.reference);
+  if (!geometry) {
+    log::error("{}", geometry.status().message());
+    return 1;
+  }
+  reference.geometry = std::move(*geometry);
+  reference.seen_radius_m = flags.seen_radius_m;
+  reference.seen_plane_tolerance_m = flags.seen_plane_tolerance_m;
+  if (!flags.seen.empty()) {
+    auto seen = eval::readMeshArrays(flags.seen);
+    if (!seen) {
+      log::error("{}", seen.status().message());
+      return 1;
+    }
+    if (seen->vertices.empty()) {
+      log::error("{}: has no points", flags.seen);
+      return 1;
+    }
+    reference.seen = std::move(seen->vertices);
+  }
+
+  StageProgress progress;
+  auto scores = eval::evaluateGeometry(*mesh, reference, flags.params, std::ref(progress));
+  progress.finish();
+  if (!scores) {
+    log::error("{} against {}: {}", flags.mesh, flags.reference, scores.status().message());
+    return 1;
+  }
+  const double seconds = clock.elapsedS();
+
+  fmt::print("mesh       {}: {}\n", flags.mesh, describe(*mesh));
+  fmt::print("reference  {}: {}{}\n", flags.reference, describe(reference.geometry),
+             flags.seen.empty() ? ""
+                                : fmt::format(", cropped to {} m around {} ({} points)", flags.seen_radius_m,
+                                              flags.seen, reference.seen.size()));
+  fmt::print("{:>7}  {:>9}  {:>7}  {:>7}  {:>11}  {:>16}\n", "tau_m", "precision", "recall", "F1", "mesh_points",
+             "reference_points");
+  for (const auto& s : *scores) {
+    fmt::print("{:>7.3f}  {:>9.4f}  {:>7.4f}  {:>7.4f}  {:>11}  {:>16}\n", s.tau_m, s.precision, s.recall, s.f1,
+               s.mesh_points, s.reference_points);
+  }
+  if (!flags.json.empty()) {
+    if (Status s = writeJson(flags, *scores, seconds); !s.isOk()) {
+      log::error("{}", s.message());
+      return 1;
+    }
+  }
+  log::info("evaluated in {:.1f} s", seconds);
+  return 0;
+}
+
+}  // namespace
+
+void addEvalCommands(CLI::App& app, int& exit_code) {
+  auto* eval = app.add_subcommand("eval", "Score results against references (geometry; later semantics, texture)");
+  eval->require_subcommand(1);
+
+  auto flags = std::make_shared<MeshEvalFlags>();
+  auto* mesh = eval->add_subcommand(
+      "mesh",
+      "Precision, recall and F1 of a PLY mesh against a reference cloud or mesh: both sampled / downsampled at "
+      "tau/2, precision over mesh samples inside the reference's box padded by 1 m (DESIGN.md)");
+  mesh->add_option("MESH", flags->mesh, "PLY triangle mesh to score (any tool's)")->required();
+  mesh->add_option("--gt", flags->reference,
+                   "Reference PLY: a cloud (artemis dataset export-cloud) or a mesh (the simulator's gt/mesh.ply)")
+      ->required();
+  mesh->add_option("--seen", flags->seen,
+                   "PLY cloud of what the sensor saw: reference points farther than --seen-radius from it are dropped");
+  mesh->add_option("--seen-radius", flags->seen_radius_m, "Radius of the --seen crop (m)")->capture_default_str();
+  mesh->add_option("--seen-plane-tolerance", flags->seen_plane_tolerance_m,
+                   "For a mesh reference: the seen point must also lie this close to the sample's plane (m)")
+      ->capture_default_str();
+  mesh->add_option("--tau", flags->params.taus_m, "Distance thresholds (m)")->capture_default_str()->expected(1, -1);
+  mesh->add_option("--samples-per-m2", flags->params.samples_per_m2, "Surface sampling density")->capture_default_str();
+  mesh->add_option("--min-samples", flags->params.min_samples, "Least number of surface samples")
+      ->capture_default_str();
+  mesh->add_option("--crop-padding", flags->params.crop_padding_m,
+                   "Padding of the reference's bounding box that crops mesh samples (m)")
+      ->capture_default_str();
+  mesh->add_option("--seed", flags->params.seed, "Seed of the surface sampling")->capture_default_str();
+  mesh->add_option("--json", flags->json, "Also write the scores to this JSON file");
+  mesh->callback([flags, &exit_code] { exit_code = runMeshEval(*flags); });
+}
+
+}  // namespace artemis::cli
