@@ -7,5 +7,7 @@ namespace artemis::cli {
 
 void addDatasetCommands(CLI::App& app, int& exit_code);
 void addSimCommand(CLI::App& app, int& exit_code);
+void addRunCommand(CLI::App& app, int& exit_code);
+void addEvalCommands(CLI::App& app, int& exit_code);
 
 }  // namespace artemis::cli

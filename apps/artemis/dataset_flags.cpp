@@ -17,7 +17,7 @@ void DatasetFlags::addTo(CLI::App& app, bool with_poses) {
                  "Recording folder: a KITTI raw drive (or its date folder), a KITTI odometry root or "
                  "sequences/NN folder [default: $ARTEMIS_DATA_DIR/kitti_raw, ARTEMIS_DATA_DIR defaulting "
                  "to ../shared/data]");
-  app.add_option("--format", format, "Dataset format: auto, kitti-raw, kitti-odometry")
+  app.add_option("--format,--dataset", format, "Dataset format: auto, kitti-raw, kitti-odometry")
       ->capture_default_str()
       ->check(CLI::IsMember({"auto", "kitti-raw", "kitti-odometry"}));
   app.add_option("--frames", frames,

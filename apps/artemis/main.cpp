@@ -33,6 +33,8 @@ int run(int argc, char** argv) {
   int exit_code = 0;
   artemis::cli::addDatasetCommands(app, exit_code);
   artemis::cli::addSimCommand(app, exit_code);
+  artemis::cli::addRunCommand(app, exit_code);
+  artemis::cli::addEvalCommands(app, exit_code);
 
   try {
     app.parse(argc, argv);

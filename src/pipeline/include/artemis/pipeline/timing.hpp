@@ -1,0 +1,33 @@
+#pragma once
+// Per-stage wall time per frame, summarised as median / p95 / max, and the process's peak memory:
+// what timing.json holds.
+
+#include <map>
+#include <string>
+#include <vector>
+
+namespace artemis::pipeline {
+
+struct StageSummary {
+  double median_ms = 0.0;
+  double p95_ms = 0.0;
+  double max_ms = 0.0;
+};
+
+class StageTimes {
+ public:
+  void add(const std::string& stage, double ms) { samples_[stage].push_back(ms); }
+  [[nodiscard]] const std::vector<double>& samples(const std::string& stage) const;
+  [[nodiscard]] std::vector<std::string> stages() const;
+  // Over frames [begin, end) of the stage's samples (all by default).
+  [[nodiscard]] StageSummary summary(const std::string& stage, std::size_t begin = 0,
+                                     std::size_t end = static_cast<std::size_t>(-1)) const;
+
+ private:
+  std::map<std::string, std::vector<double>> samples_;
+};
+
+// Peak resident set size of this process in MiB (VmHWM), or 0 where unknown.
+double peakRssMb();
+
+}  // namespace artemis::pipeline

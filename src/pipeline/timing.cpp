@@ -1,0 +1,51 @@
+#include "artemis/pipeline/timing.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <sstream>
+
+namespace artemis::pipeline {
+
+const std::vector<double>& StageTimes::samples(const std::string& stage) const {
+  static const std::vector<double> kNone;
+  const auto it = samples_.find(stage);
+  return it == samples_.end() ? kNone : it->second;
+}
+
+std::vector<std::string> StageTimes::stages() const {
+  std::vector<std::string> out;
+  for (const auto& [name, values] : samples_) out.push_back(name);
+  return out;
+}
+
+StageSummary StageTimes::summary(const std::string& stage, std::size_t begin, std::size_t end) const {
+  const auto& all = samples(stage);
+  end = std::min(end, all.size());
+  if (begin >= end) return {};
+  std::vector<double> v(all.begin() + static_cast<std::ptrdiff_t>(begin),
+                        all.begin() + static_cast<std::ptrdiff_t>(end));
+  std::sort(v.begin(), v.end());
+  // Nearest-rank percentiles.
+  const auto rank = [&](double q) {
+    const auto k = static_cast<std::size_t>(std::ceil(q * static_cast<double>(v.size())));
+    return v[std::clamp<std::size_t>(k, 1, v.size()) - 1];
+  };
+  return {rank(0.5), rank(0.95), v.back()};
+}
+
+double peakRssMb() {
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  while (std::getline(status, line)) {
+    if (line.rfind("VmHWM:", 0) == 0) {
+      std::istringstream in(line.substr(6));
+      double kb = 0.0;
+      in >> kb;
+      return kb / 1024.0;
+    }
+  }
+  return 0.0;
+}
+
+}  // namespace artemis::pipeline
