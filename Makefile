@@ -10,15 +10,17 @@ build:
 	cmake -S . -B build $(GENERATOR) -DCMAKE_BUILD_TYPE=Release
 	cmake --build build -j $(JOBS)
 
-# The main job on the built-in default: simulate the demo street (30 frames, KITTI layout), then
-# read it back as a user would.
+# The main job on the built-in default: map the simulated demo street (30 frames, simulated into
+# out/demo/sim), then score the mesh against the simulator's ground-truth surface.
 run: build
-	build/bin/artemis sim --preset demo --out out/demo --force
-	build/bin/artemis dataset info out/demo
+	build/bin/artemis run --out out/demo
+	build/bin/artemis dataset export-cloud out/demo/sim --voxel 0.05 -o out/demo/seen.ply
+	build/bin/artemis eval mesh out/demo/mesh.ply --gt out/demo/sim/gt/mesh.ply --seen out/demo/seen.ply
 
 # Benchmarks (Release build): they print per-stage figures.
 bench: build
 	build/bench/sim_bench
+	build/bench/mapping_bench
 
 # Every test, twice: a Release build with warnings as errors, then an ASan/UBSan build.
 test: test-release test-asan

@@ -6,11 +6,11 @@
 //   build/bench/sim_bench --benchmark_filter=Sequence
 #include <benchmark/benchmark.h>
 
+#include <unistd.h>
 #include <algorithm>
 #include <filesystem>
 #include <numeric>
 #include <string>
-#include <unistd.h>
 
 #include "artemis/sim/simulator.hpp"
 #include "artemis/sim/writer.hpp"
