@@ -1,0 +1,61 @@
+// The mapper on the real KITTI drive (frames 0-49 with the consistent reference poses), scored
+// against the reference cloud built from the same scans and poses, as DESIGN.md prescribes.
+// The Poisson baseline beside it runs in bench/mapping_bench (it needs Open3D and half a minute).
+#include <gtest/gtest.h>
+
+#include <cstdio>
+
+#include "artemis/datasets/dataset.hpp"
+#include "artemis/datasets/dataset_summary.hpp"
+#include "artemis/datasets/pose_file.hpp"
+#include "artemis/eval/geometry.hpp"
+#include "artemis/mapping/mapper.hpp"
+#include "mesh_checks.hpp"
+#include "support/test_support.hpp"
+
+namespace artemis {
+namespace {
+
+TEST(KittiReconstruction, DriveMeshScoresAtLeast090AtTenCentimetres) {
+  ARTEMIS_REQUIRE_DATA("kitti_raw/reference_poses.txt");
+  const auto raw = test::dataDir() / "kitti_raw";
+  datasets::DatasetOptions options;
+  options.frames = {0, 50};
+  options.load_images = false;
+  auto dataset = datasets::openDataset(raw, datasets::DatasetFormat::kAuto, options);
+  ASSERT_TRUE(dataset) << dataset.status().toString();
+  auto poses = datasets::readPoseFile(raw / "reference_poses.txt");
+  ASSERT_TRUE(poses) << poses.status().toString();
+  ASSERT_TRUE((*dataset)->setPoses(*poses).isOk());
+
+  mapping::Mapper mapper(mapping::MapperParams{});
+  for (std::size_t i = 0; i < (*dataset)->size(); ++i) {
+    auto frame = (*dataset)->frame(i);
+    ASSERT_TRUE(frame) << frame.status().toString();
+    mapper.integrate(frame->points_L, frame->T_W_L);
+  }
+  mapper.finish();
+
+  eval::MeshArrays mesh;
+  const auto compact = mapper.mesh().compact();
+  for (std::uint32_t v : compact.vertex_ids) mesh.vertices.push_back(mapper.mesh().positions()[v]);
+  mesh.triangles = compact.faces;
+  eval::Reference reference;
+  reference.geometry.vertices = datasets::aggregateScans(**dataset, 0.05).cloud_W.points;
+  auto scores = eval::evaluateGeometry(mesh, reference, eval::GeometryParams{});
+  ASSERT_TRUE(scores) << scores.status().toString();
+  for (const auto& s : *scores) {
+    std::printf("kitti_raw 0-49, tau %.2f m: precision %.4f recall %.4f F1 %.4f\n", s.tau_m, s.precision, s.recall,
+                s.f1);
+  }
+  ASSERT_EQ(scores->size(), 2u);
+  EXPECT_GE((*scores)[0].f1, 0.90);
+  EXPECT_GE((*scores)[1].f1, (*scores)[0].f1);
+  const auto checks = test::checkMesh(mesh.vertices, mesh.triangles);
+  EXPECT_EQ(checks.duplicate_faces, 0u);
+  EXPECT_EQ(checks.zero_area_faces, 0u);
+  EXPECT_LE(static_cast<double>(checks.non_manifold_edges), 0.01 * static_cast<double>(checks.edges));
+}
+
+}  // namespace
+}  // namespace artemis
