@@ -167,10 +167,13 @@ GeometryScore scoreAtTau(double tau_m, const Points& mesh_samples, const Referen
   score.precision = in_crop > 0 ? static_cast<double>(in_crop_near) / static_cast<double>(in_crop) : 0.0;
 
   // A reference point has a sample within tau exactly when that sample has the reference point
-  // within tau: only the samples that passed the test above (against a superset of the recall
-  // reference) can serve recall, so the recall tree holds those alone.
+  // within tau: only samples within tau of the recall reference can serve recall, so the recall
+  // tree holds those alone.
   const auto recall_report = reporter.stage("recall " + at, reference_ds.size());
-  const Points mesh_near = keepIf(mesh_ds, near_reference);
+  // With a cropped reference the seen points are downsampled on their own and their centroids
+  // differ from those of the whole reference, so the pre-filter is redone against them.
+  const Points mesh_near =
+      cropped ? keepIf(mesh_ds, PointIndex(reference_ds).within(mesh_ds, tau_m)) : keepIf(mesh_ds, near_reference);
   const PointIndex mesh_index(mesh_near);
   const auto near_mesh = mesh_index.within(reference_ds, tau_m, recall_report);
   score.recall = static_cast<double>(countHits(near_mesh)) / static_cast<double>(reference_ds.size());

@@ -71,8 +71,12 @@ VoxelMeshResult IncrementalMesher::meshVoxel(const VoxelMap& map, const Semantic
   const Vector3d w = normal.cross(u);
 
   // Own points, then the rim: neighbours' points within rim_m of this voxel's box.
-  std::vector<std::uint32_t> ids(voxel->vertices.begin(), voxel->vertices.end());
-  std::vector<Vector3f> points(voxel->points.begin(), voxel->points.end());
+  // Per-thread scratch: meshing thousands of voxels a frame should not mean thousands of mallocs.
+  thread_local std::vector<std::uint32_t> ids;
+  thread_local std::vector<Vector3f> points;
+  thread_local std::vector<Vector2d> projected;
+  ids.assign(voxel->vertices.begin(), voxel->vertices.end());
+  points.assign(voxel->points.begin(), voxel->points.end());
   const float size = map.voxelSize();
   const Vector3f lo = Vector3f(static_cast<float>(key.x), static_cast<float>(key.y), static_cast<float>(key.z)) * size -
                       Vector3f::Constant(static_cast<float>(params_.rim_m));
@@ -80,11 +84,9 @@ VoxelMeshResult IncrementalMesher::meshVoxel(const VoxelMap& map, const Semantic
   for (int dx = -1; dx <= 1; ++dx) {
     for (int dy = -1; dy <= 1; ++dy) {
       for (int dz = -1; dz <= 1; ++dz) {
-        // Face and edge neighbours only: a corner neighbour's rim share is a cube of rim_m a side.
-        const int moved = std::abs(dx) + std::abs(dy) + std::abs(dz);
-        if (moved == 0 || moved == 3) continue;
+        if (dx == 0 && dy == 0 && dz == 0) continue;
         const Voxel* n = map.find({key.x + dx, key.y + dy, key.z + dz});
-        if (n == nullptr) continue;
+        if (n == nullptr || (n->hi.array() < lo.array()).any() || (n->lo.array() > hi.array()).any()) continue;
         for (std::size_t i = 0; i < n->points.size(); ++i) {
           const Vector3f& p = n->points[i];
           if ((p.array() >= lo.array()).all() && (p.array() <= hi.array()).all()) {
@@ -96,7 +98,7 @@ VoxelMeshResult IncrementalMesher::meshVoxel(const VoxelMap& map, const Semantic
     }
   }
 
-  std::vector<Vector2d> projected(points.size());
+  projected.resize(points.size());
   for (std::size_t i = 0; i < points.size(); ++i) {
     const Vector3d d = points[i].cast<double>() - centroid;
     projected[i] = Vector2d(d.dot(u), d.dot(w));
@@ -116,7 +118,11 @@ VoxelMeshResult IncrementalMesher::meshVoxel(const VoxelMap& map, const Semantic
     std::array<std::pair<std::uint32_t, std::size_t>, 3> sorted{{{a, ia}, {b, ib}, {c, ic}}};
     std::sort(sorted.begin(), sorted.end());
     const Vector3f centre = (points[sorted[0].second] + points[sorted[1].second] + points[sorted[2].second]) / 3.0f;
-    if (!(voxelKeyOf(centre, inv_size) == key)) continue;  // a neighbour owns it
+    // The owner is the voxel holding the centroid; when that voxel has no points (and so never
+    // meshes), the voxel of origin of the face's smallest vertex id: the same rule everywhere.
+    VoxelKey owner = voxelKeyOf(centre, inv_size);
+    if (map.find(owner) == nullptr) owner = mesh.voxels()[sorted[0].first];
+    if (!(owner == key)) continue;
     const Vector3d pa = points[ia].cast<double>();
     const Vector3d pb = points[ib].cast<double>();
     const Vector3d pc = points[ic].cast<double>();

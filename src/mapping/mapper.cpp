@@ -86,10 +86,21 @@ FrameStats Mapper::integrate(const PointCloud& points_L, const Isometry3d& T_W_L
 
 std::size_t Mapper::finish() {
   mesh_.beginFrame();
+  // Pending: voxels with points added since they were meshed, and voxels whose neighbours gained
+  // points since then (their rim, and so the faces along their border, changed).
   std::vector<VoxelKey> pending;
   for (const VoxelKey& key : map_.keys()) {
     const Voxel& v = *map_.find(key);
-    if (v.vertices.size() > v.points_when_meshed) pending.push_back(key);
+    bool stale = v.vertices.size() > v.points_when_meshed;
+    for (int dx = -1; dx <= 1 && !stale; ++dx) {
+      for (int dy = -1; dy <= 1 && !stale; ++dy) {
+        for (int dz = -1; dz <= 1 && !stale; ++dz) {
+          const Voxel* n = map_.find({key.x + dx, key.y + dy, key.z + dz});
+          stale = n != nullptr && n->active_frame > v.meshed_frame && v.points_when_meshed > 0;
+        }
+      }
+    }
+    if (stale) pending.push_back(key);
   }
   sortSpatially(pending);
   return meshVoxels(pending);
@@ -106,6 +117,7 @@ std::size_t Mapper::meshVoxels(const std::vector<VoxelKey>& keys) {
   for (VoxelMeshResult& r : results) {
     Voxel& v = *map_.find(r.key);
     v.points_when_meshed = static_cast<std::uint32_t>(v.vertices.size());
+    v.meshed_frame = map_.frame();
     if (r.normal != Eigen::Vector3f::Zero()) {
       for (std::uint32_t id : v.vertices) mesh_.setNormal(id, r.normal);
     }

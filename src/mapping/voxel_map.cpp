@@ -67,14 +67,19 @@ std::vector<VoxelKey> VoxelMap::insert(const std::vector<Eigen::Vector3f>& point
   std::uint32_t last_index = 0;
   // The table is far larger than the caches: fetch the slot a few points ahead of its use.
   constexpr std::size_t kAhead = 8;
+  // Keys are 32-bit: points beyond +-1000 km (a broken pose) are refused, as are NaN and inf.
+  const auto usable = [](const Eigen::Vector3f& p) { return p.allFinite() && p.cwiseAbs().maxCoeff() < 1e6f; };
   const auto prefetch = [&](std::size_t i) {
-    if (i < points_W.size() && points_W[i].allFinite()) __builtin_prefetch(&table_[slotOf(keyOf(points_W[i]))]);
+    if (i < points_W.size() && usable(points_W[i])) __builtin_prefetch(&table_[slotOf(keyOf(points_W[i]))]);
   };
   for (std::size_t i = 0; i < kAhead; ++i) prefetch(i);
   for (std::size_t i = 0; i < points_W.size(); ++i) {
     prefetch(i + kAhead);
     const Eigen::Vector3f& p = points_W[i];
-    if (!p.allFinite()) continue;
+    if (!usable(p)) {
+      ++rejected_;
+      continue;
+    }
     const VoxelKey key = keyOf(p);
     if (!(key == last_key)) {
       last_index = findOrAdd(key);
@@ -93,6 +98,8 @@ std::vector<VoxelKey> VoxelMap::insert(const std::vector<Eigen::Vector3f>& point
     word |= mask;
     v.vertices.push_back(mesh.addVertex(p, key, (sensor_W - p).normalized()));
     v.points.push_back(p);
+    v.lo = v.lo.cwiseMin(p);
+    v.hi = v.hi.cwiseMax(p);
     if (v.active_frame != frame_) {
       v.active_frame = frame_;
       active.push_back(key);

@@ -78,6 +78,7 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
       if (frame.status().code() == StatusCode::kEndOfData) break;
       log::warn("frame {} skipped: {}", dataset.firstIndex() + i, frame.status().message());
       ++report.frames_failed;
+      trajectory += formatRowMajor3x4(dataset.pose(i)) + "\n";  // line k stays frame k
       continue;
     }
     const mapping::FrameStats stats = mapper.integrate(frame->points_L, frame->T_W_L);

@@ -6,6 +6,23 @@
 
 namespace artemis::test {
 
+std::vector<std::pair<std::uint32_t, std::uint32_t>> boundaryEdges(
+    const std::vector<std::array<std::uint32_t, 3>>& faces) {
+  std::map<std::pair<std::uint32_t, std::uint32_t>, int> use;
+  for (const auto& f : faces) {
+    for (int k = 0; k < 3; ++k) {
+      const std::uint32_t u = f[static_cast<std::size_t>(k)];
+      const std::uint32_t v = f[static_cast<std::size_t>((k + 1) % 3)];
+      ++use[{std::min(u, v), std::max(u, v)}];
+    }
+  }
+  std::vector<std::pair<std::uint32_t, std::uint32_t>> out;
+  for (const auto& [edge, n] : use) {
+    if (n == 1) out.push_back(edge);
+  }
+  return out;
+}
+
 MeshChecks checkMesh(const std::vector<Eigen::Vector3f>& vertices,
                      const std::vector<std::array<std::uint32_t, 3>>& faces) {
   MeshChecks c;

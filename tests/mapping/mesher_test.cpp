@@ -139,6 +139,7 @@ TEST(Mesher, SphereSeenFromInsideHasInwardNormalsAndStaysOnIt) {
     const Vector3f centre = (p[f[0]] + p[f[1]] + p[f[2]]) / 3.0f;
     const Vector3f n = (p[f[1]] - p[f[0]]).cross(p[f[2]] - p[f[0]]);
     ASSERT_LT(n.dot(centre), 0.0f) << "face not wound towards the sensor at the centre";
+    ASSERT_GT(centre.norm(), 0.97f) << "face cuts through the sphere";
   }
   const auto c = check(mesh);
   EXPECT_EQ(c.duplicate_faces, 0u);
@@ -146,8 +147,11 @@ TEST(Mesher, SphereSeenFromInsideHasInwardNormalsAndStaysOnIt) {
 }
 
 TEST(Mesher, LinesAndTooFewPointsGiveNoFaces) {
-  PointCloud line;
-  for (int i = 0; i < 200; ++i) line.points.emplace_back(0.01f * static_cast<float>(i), 0.3f, 0.1f);
+  PointCloud line;  // a scan line: collinear but for 1 mm of noise
+  for (int i = 0; i < 200; ++i) {
+    line.points.emplace_back(0.01f * static_cast<float>(i), 0.3f + 0.001f * std::sin(static_cast<float>(i) * 1.7f),
+                             0.1f + 0.001f * std::cos(static_cast<float>(i) * 2.3f));
+  }
   Mapper mapper(MapperParams{});
   mapper.integrate(line, Isometry3d::Identity());
   mapper.integrate(PointCloud{}, Isometry3d::Identity());
@@ -180,6 +184,35 @@ TEST(Mesher, IncrementalScansReplaceFacesNotDuplicateThem) {
   EXPECT_EQ(c.non_manifold_edges, 0u);
   EXPECT_EQ(mapper.mesh().faceCount(), mapper.mesh().faces().size());
   EXPECT_GT(area(mapper.mesh()), 0.95 * 3.96 * 3.96);
+}
+
+// Scans that each cover a strip: voxels along the strips' borders are meshed before their
+// neighbours have points; finish() must re-mesh them so that no seam or overlap stays.
+TEST(Mesher, StripByStripScansLeaveNoSeams) {
+  const PointCloud all = planePoints(4.0f, 0.04f);
+  Mapper mapper(MapperParams{});
+  const Eigen::Vector3d sensor(2, 2, 2);
+  for (int strip = 0; strip < 4; ++strip) {
+    PointCloud part;
+    for (const auto& p : all.points) {
+      if (static_cast<int>(p.x()) == strip) part.points.push_back(p);
+    }
+    mapper.integrate(inSensorFrame(part, sensor), sensorAt(sensor));
+  }
+  mapper.finish();
+  const SemanticMesh& mesh = mapper.mesh();
+  const auto c = check(mesh);
+  EXPECT_EQ(c.duplicate_faces, 0u);
+  EXPECT_EQ(c.non_manifold_edges, 0u);
+  // Edges used by one face lie on the square's outer border only: no holes inside.
+  std::size_t inner_border = 0;
+  for (const auto& [a, b] : test::boundaryEdges(mesh.faces())) {
+    const Vector3f mid = 0.5f * (mesh.positions()[a] + mesh.positions()[b]);
+    if (mid.x() > 0.3f && mid.x() < 3.7f && mid.y() > 0.3f && mid.y() < 3.7f) ++inner_border;
+  }
+  EXPECT_EQ(inner_border, 0u);
+  EXPECT_GT(area(mesh), 0.95 * 3.96 * 3.96);
+  EXPECT_LT(area(mesh), 16.0);
 }
 
 TEST(Mesher, SameResultWithOneThreadOrMany) {

@@ -4,6 +4,7 @@
 #include <cmath>
 #include <limits>
 #include <set>
+#include <tuple>
 
 #include "artemis/mapping/voxel_map.hpp"
 
@@ -42,6 +43,31 @@ TEST(VoxelMap, KeepsOnePointPerSubCellAndReportsActiveVoxels) {
   // Vertices remember their voxel and point towards the sensor.
   EXPECT_EQ(mesh.voxels().back(), (VoxelKey{0, 0, 0}));
   EXPECT_GT(mesh.viewDirections().back().z(), 0.9f);
+}
+
+// Enough voxels to grow the hash table several times, against a brute-force set of keys.
+TEST(VoxelMap, ManyVoxelsMatchBruteForce) {
+  VoxelMap map({.voxel_size_m = 0.4, .subdivisions = 4});
+  SemanticMesh mesh;
+  std::vector<Eigen::Vector3f> points;
+  std::set<std::tuple<int, int, int>> expected;
+  for (int i = 0; i < 120000; ++i) {
+    const Eigen::Vector3f p(std::fmod(static_cast<float>(i) * 0.731f, 97.0f) - 48.0f,
+                            std::fmod(static_cast<float>(i) * 0.377f, 89.0f) - 44.0f,
+                            std::fmod(static_cast<float>(i) * 0.193f, 7.0f) - 3.0f);
+    points.push_back(p);
+    expected.emplace(static_cast<int>(std::floor(p.x() / 0.4f)), static_cast<int>(std::floor(p.y() / 0.4f)),
+                     static_cast<int>(std::floor(p.z() / 0.4f)));
+  }
+  const auto active = map.insert(points, {0, 0, 0}, mesh);
+  EXPECT_GT(expected.size(), 40000u);
+  EXPECT_EQ(map.size(), expected.size());
+  EXPECT_EQ(active.size(), expected.size());
+  for (const auto& [x, y, z] : expected) ASSERT_NE(map.find({x, y, z}), nullptr);
+  EXPECT_EQ(map.find({1000, 1000, 1000}), nullptr);
+  // Huge coordinates (a broken pose) are refused and counted, not turned into wrapped keys.
+  map.insert({{3e9f, 0.0f, 0.0f}}, {0, 0, 0}, mesh);
+  EXPECT_EQ(map.rejectedPoints(), 1u);
 }
 
 TEST(VoxelMap, NegativeCoordinatesAndBadPoints) {

@@ -6,6 +6,7 @@
 
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <vector>
 
 #include <Eigen/Core>
@@ -23,11 +24,14 @@ struct VoxelMapParams {
 };
 
 struct Voxel {
-  std::vector<std::uint32_t> vertices;      // mesh vertex ids of the kept points
-  std::vector<Eigen::Vector3f> points;      // their positions, kept here too for cache-friendly meshing
+  std::vector<std::uint32_t> vertices;  // mesh vertex ids of the kept points
+  std::vector<Eigen::Vector3f> points;  // their positions, kept here too for cache-friendly meshing
+  Eigen::Vector3f lo = Eigen::Vector3f::Constant(std::numeric_limits<float>::max());  // bounds of points
+  Eigen::Vector3f hi = Eigen::Vector3f::Constant(std::numeric_limits<float>::lowest());
   std::array<std::uint64_t, 8> occupied{};  // one bit per sub-cell (8^3 = 512)
   std::uint32_t points_when_meshed = 0;     // vertices.size() when last meshed
   std::uint32_t active_frame = 0;           // the last insert() that added a point here
+  std::uint32_t meshed_frame = 0;           // the insert() count when it was last meshed
 };
 
 class VoxelMap {
@@ -43,8 +47,11 @@ class VoxelMap {
   Voxel* find(const VoxelKey& key);
   [[nodiscard]] VoxelKey keyOf(const Eigen::Vector3f& p_W) const { return voxelKeyOf(p_W, inv_voxel_size_); }
   [[nodiscard]] std::size_t size() const { return voxels_.size(); }
+  // Points refused so far: not finite, or farther than 1000 km from the origin.
+  [[nodiscard]] std::size_t rejectedPoints() const { return rejected_; }
   [[nodiscard]] const VoxelMapParams& params() const { return params_; }
   [[nodiscard]] float voxelSize() const { return static_cast<float>(params_.voxel_size_m); }
+  [[nodiscard]] std::uint32_t frame() const { return frame_; }
   // Keys of every voxel, sorted.
   [[nodiscard]] std::vector<VoxelKey> keys() const;
 
@@ -62,6 +69,7 @@ class VoxelMap {
   std::vector<VoxelKey> keys_;        // key of voxels_[i]
   std::vector<std::uint32_t> table_;  // voxel index + 1; 0 = empty slot
   std::uint32_t frame_ = 0;
+  std::size_t rejected_ = 0;
 };
 
 }  // namespace artemis::mapping
