@@ -82,10 +82,14 @@ PointIndex::PointIndex(const std::vector<Eigen::Vector3f>& points) : tree_(std::
 
 PointIndex::~PointIndex() = default;
 
-std::vector<std::uint8_t> PointIndex::within(const std::vector<Eigen::Vector3f>& queries, double radius_m,
-                                             const ReportDone& report) const {
+namespace {
+
+// hit[i] = 1 when the search with make_result(i, radius_sq) finds a point for queries[i].
+template <typename Tree, typename MakeResult>
+std::vector<std::uint8_t> searchAll(const Tree& tree, const std::vector<Eigen::Vector3f>& queries, double radius_m,
+                                    const ReportDone& report, MakeResult&& make_result) {
   std::vector<std::uint8_t> hit(queries.size(), 0);
-  if (tree_->adaptor.points->empty()) {
+  if (tree.adaptor.points->empty()) {
     if (report) report(queries.size());
     return hit;
   }
@@ -96,34 +100,29 @@ std::vector<std::uint8_t> PointIndex::within(const std::vector<Eigen::Vector3f>&
   const nanoflann::SearchParams search;
   chunkedFor(queries.size(), report, [&](std::size_t begin, std::size_t end) {
     for (std::size_t i = begin; i < end; ++i) {
-      AnyWithin result(radius_sq);
-      tree_->index.findNeighbors(result, queries[i].data(), search);
+      auto result = make_result(i, radius_sq);
+      tree.index.findNeighbors(result, queries[i].data(), search);
       hit[i] = result.found() ? 1 : 0;
     }
   });
   return hit;
 }
 
+}  // namespace
+
+std::vector<std::uint8_t> PointIndex::within(const std::vector<Eigen::Vector3f>& queries, double radius_m,
+                                             const ReportDone& report) const {
+  return searchAll(*tree_, queries, radius_m, report,
+                   [](std::size_t /*i*/, float radius_sq) { return AnyWithin(radius_sq); });
+}
+
 std::vector<std::uint8_t> PointIndex::withinOnPlane(const std::vector<Eigen::Vector3f>& queries,
                                                     const std::vector<Eigen::Vector3f>& normals, double radius_m,
                                                     double plane_tolerance_m, const ReportDone& report) const {
-  std::vector<std::uint8_t> hit(queries.size(), 0);
-  if (tree_->adaptor.points->empty()) {
-    if (report) report(queries.size());
-    return hit;
-  }
-  const float radius_sq =
-      std::nextafter(static_cast<float>(radius_m * radius_m), std::numeric_limits<float>::infinity());
-  const nanoflann::SearchParams search;
-  chunkedFor(queries.size(), report, [&](std::size_t begin, std::size_t end) {
-    for (std::size_t i = begin; i < end; ++i) {
-      AnyWithinOnPlane result(radius_sq, *tree_->adaptor.points, queries[i], normals[i],
-                              static_cast<float>(plane_tolerance_m));
-      tree_->index.findNeighbors(result, queries[i].data(), search);
-      hit[i] = result.found() ? 1 : 0;
-    }
+  return searchAll(*tree_, queries, radius_m, report, [&](std::size_t i, float radius_sq) {
+    return AnyWithinOnPlane(radius_sq, *tree_->adaptor.points, queries[i], normals[i],
+                            static_cast<float>(plane_tolerance_m));
   });
-  return hit;
 }
 
 }  // namespace artemis::eval::detail
