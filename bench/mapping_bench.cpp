@@ -132,6 +132,7 @@ int main(int argc, char** argv) {
     const std::string command =
         fmt::format("/usr/bin/python3 {} --cloud {} --trajectory {} --out {}", script.string(), cloud_ply.string(),
                     (out / "trajectory.txt").string(), (out / "poisson.ply").string());
+    std::fflush(stdout);  // our lines before the script's
     Stopwatch poisson_clock;
     if (std::system(command.c_str()) != 0) {
       fmt::print(stderr, "Poisson baseline failed: {}\n", command);
