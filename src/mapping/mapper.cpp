@@ -60,7 +60,8 @@ FrameStats Mapper::integrate(const PointCloud& points_L, const Isometry3d& T_W_L
   points_W.resize(points_L.size());
   for (std::size_t i = 0; i < points_L.size(); ++i) points_W[i] = R * points_L.points[i] + t;
   const std::size_t vertices_before = mesh_.vertexCount();
-  const std::vector<VoxelKey> active = map_.insert(points_W, t, mesh_);
+  std::vector<VoxelKey> active;
+  arena_->arena.execute([&] { active = map_.insert(points_W, t, mesh_); });
   stats.points_kept = mesh_.vertexCount() - vertices_before;
   stats.active_voxels = active.size();
   stats.insert_ms = clock.elapsedMs();

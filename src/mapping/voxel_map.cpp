@@ -1,5 +1,8 @@
 #include "artemis/mapping/voxel_map.hpp"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <limits>
 #include <stdexcept>
@@ -18,7 +21,7 @@ VoxelMap::VoxelMap(const VoxelMapParams& params) : params_(params) {
   table_.assign(std::size_t{1} << 16, 0);
 }
 
-std::size_t VoxelMap::slotOf(const VoxelKey& key) const {
+std::uint64_t VoxelMap::hashOf(const VoxelKey& key) {
   // SplitMix64 over the packed key: well spread for the low bits the mask keeps.
   std::uint64_t h = (static_cast<std::uint64_t>(static_cast<std::uint32_t>(key.x)) << 42) ^
                     (static_cast<std::uint64_t>(static_cast<std::uint32_t>(key.y)) << 21) ^
@@ -27,11 +30,15 @@ std::size_t VoxelMap::slotOf(const VoxelKey& key) const {
   h = (h ^ (h >> 30)) * 0xBF58476D1CE4E5B9ull;
   h = (h ^ (h >> 27)) * 0x94D049BB133111EBull;
   h ^= h >> 31;
-  return static_cast<std::size_t>(h) & (table_.size() - 1);
+  return h;
 }
 
-std::uint32_t VoxelMap::findOrAdd(const VoxelKey& key) {
-  std::size_t slot = slotOf(key);
+std::size_t VoxelMap::slotOf(const VoxelKey& key) const {
+  return static_cast<std::size_t>(hashOf(key)) & (table_.size() - 1);
+}
+
+std::uint32_t VoxelMap::findOrAdd(const VoxelKey& key, std::uint64_t hash) {
+  std::size_t slot = static_cast<std::size_t>(hash) & (table_.size() - 1);
   const std::size_t mask = table_.size() - 1;
   while (table_[slot] != 0) {
     const std::uint32_t index = table_[slot] - 1;
@@ -59,50 +66,66 @@ void VoxelMap::grow() {
 std::vector<VoxelKey> VoxelMap::insert(const std::vector<Eigen::Vector3f>& points_W, const Eigen::Vector3f& sensor_W,
                                        SemanticMesh& mesh) {
   ++frame_;
-  std::vector<VoxelKey> active;
   const int n = params_.subdivisions;
   const float voxel = voxelSize();
-  // Successive scan points mostly fall in the voxel of the point before: skip the hash then.
-  VoxelKey last_key{std::numeric_limits<std::int32_t>::min(), 0, 0};
-  std::uint32_t last_index = 0;
-  // The table is far larger than the caches: fetch the slot a few points ahead of its use.
+  // First, in parallel: each point's voxel key, its hash and its sub-cell. Keys are 32-bit: points
+  // beyond +-1000 km (a broken pose) are refused, as are NaN and inf (sub_cell -1).
+  prepared_.resize(points_W.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points_W.size(), 4096), [&](const auto& range) {
+    for (std::size_t i = range.begin(); i < range.end(); ++i) {
+      const Eigen::Vector3f& p = points_W[i];
+      Prepared& out = prepared_[i];
+      if (!p.allFinite() || !(p.cwiseAbs().maxCoeff() < 1e6f)) {
+        out.sub_cell = -1;
+        continue;
+      }
+      out.key = keyOf(p);
+      out.hash = hashOf(out.key);
+      // Sub-cell within the voxel, clamped against rounding at the voxel's far faces.
+      const auto sub = [&](float c, std::int32_t k) {
+        const int s = static_cast<int>((c - static_cast<float>(k) * voxel) * inv_sub_size_);
+        return std::clamp(s, 0, n - 1);
+      };
+      out.sub_cell = (sub(p.x(), out.key.x) * n + sub(p.y(), out.key.y)) * n + sub(p.z(), out.key.z);
+    }
+  });
+
+  // Then in order (vertex ids follow the scan): the hash table, with each point's slot fetched a
+  // few points ahead of its use, since the table is far larger than the caches.
+  std::vector<VoxelKey> active;
   constexpr std::size_t kAhead = 8;
-  // Keys are 32-bit: points beyond +-1000 km (a broken pose) are refused, as are NaN and inf.
-  const auto usable = [](const Eigen::Vector3f& p) { return p.allFinite() && p.cwiseAbs().maxCoeff() < 1e6f; };
   const auto prefetch = [&](std::size_t i) {
-    if (i < points_W.size() && usable(points_W[i])) __builtin_prefetch(&table_[slotOf(keyOf(points_W[i]))]);
+    if (i < prepared_.size() && prepared_[i].sub_cell >= 0) {
+      __builtin_prefetch(&table_[static_cast<std::size_t>(prepared_[i].hash) & (table_.size() - 1)]);
+    }
   };
   for (std::size_t i = 0; i < kAhead; ++i) prefetch(i);
+  VoxelKey last_key{std::numeric_limits<std::int32_t>::min(), 0, 0};
+  std::uint32_t last_index = 0;
   for (std::size_t i = 0; i < points_W.size(); ++i) {
     prefetch(i + kAhead);
-    const Eigen::Vector3f& p = points_W[i];
-    if (!usable(p)) {
+    const Prepared& q = prepared_[i];
+    if (q.sub_cell < 0) {
       ++rejected_;
       continue;
     }
-    const VoxelKey key = keyOf(p);
-    if (!(key == last_key)) {
-      last_index = findOrAdd(key);
-      last_key = key;
+    if (!(q.key == last_key)) {  // successive points often share a voxel
+      last_index = findOrAdd(q.key, q.hash);
+      last_key = q.key;
     }
-    // Sub-cell within the voxel, clamped against rounding at the voxel's far faces.
-    const auto sub = [&](float c, std::int32_t k) {
-      const int s = static_cast<int>((c - static_cast<float>(k) * voxel) * inv_sub_size_);
-      return std::clamp(s, 0, n - 1);
-    };
-    const int bit = (sub(p.x(), key.x) * n + sub(p.y(), key.y)) * n + sub(p.z(), key.z);
     Voxel& v = voxels_[last_index];
-    const std::uint64_t mask = std::uint64_t{1} << (bit & 63);
-    std::uint64_t& word = v.occupied[static_cast<std::size_t>(bit >> 6)];
+    const std::uint64_t mask = std::uint64_t{1} << (q.sub_cell & 63);
+    std::uint64_t& word = v.occupied[static_cast<std::size_t>(q.sub_cell >> 6)];
     if ((word & mask) != 0) continue;  // a point already holds this sub-cell
     word |= mask;
-    v.vertices.push_back(mesh.addVertex(p, key, (sensor_W - p).normalized()));
+    const Eigen::Vector3f& p = points_W[i];
+    v.vertices.push_back(mesh.addVertex(p, q.key, (sensor_W - p).normalized()));
     v.points.push_back(p);
     v.lo = v.lo.cwiseMin(p);
     v.hi = v.hi.cwiseMax(p);
     if (v.active_frame != frame_) {
       v.active_frame = frame_;
-      active.push_back(key);
+      active.push_back(q.key);
     }
   }
   return active;

@@ -3,6 +3,8 @@
 // sub-cell (subdivisions^3 sub-cells), so that scans of the same surface do not pile up: the
 // minimum spacing of kept points is voxel_size / subdivisions. Kept points become mesh vertices.
 // Inserting a scan returns the voxels that received new points: the frame's active set.
+// insert() spreads its per-point arithmetic over the calling TBB arena; results do not depend on
+// the thread count.
 
 #include <array>
 #include <cstdint>
@@ -58,8 +60,9 @@ class VoxelMap {
  private:
   // Open addressing with linear probing over a power-of-two table of indices into voxels_: the
   // 27 lookups per meshed voxel made std::unordered_map's bucket chasing the mesher's top cost.
+  static std::uint64_t hashOf(const VoxelKey& key);
   [[nodiscard]] std::size_t slotOf(const VoxelKey& key) const;
-  std::uint32_t findOrAdd(const VoxelKey& key);
+  std::uint32_t findOrAdd(const VoxelKey& key, std::uint64_t hash);
   void grow();
 
   VoxelMapParams params_;
@@ -70,6 +73,12 @@ class VoxelMap {
   std::vector<std::uint32_t> table_;  // voxel index + 1; 0 = empty slot
   std::uint32_t frame_ = 0;
   std::size_t rejected_ = 0;
+  struct Prepared {
+    VoxelKey key;
+    std::uint64_t hash = 0;
+    int sub_cell = -1;  // -1: point refused
+  };
+  std::vector<Prepared> prepared_;  // per-frame scratch of insert()
 };
 
 }  // namespace artemis::mapping
