@@ -97,6 +97,9 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
   Stopwatch finish_clock;
   mapper.finish();
   report.finish_ms = finish_clock.elapsedMs();
+  if (const std::size_t refused = mapper.voxels().rejectedPoints(); refused > 0) {
+    log::warn("{} points more than 1000 km from the origin were refused (broken poses?)", refused);
+  }
   report.vertices = mapper.mesh().vertexCount();
   report.faces = mapper.mesh().faceCount();
   if (Status s = writeMeshPly(mapper.mesh(), out / "mesh.ply"); !s.isOk()) return s;
