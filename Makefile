@@ -22,7 +22,8 @@ bench: build
 	build/bench/sim_bench
 	build/bench/mapping_bench
 
-# Every test, twice: a Release build with warnings as errors, then an ASan/UBSan build.
+# Every test, twice: a Release build with warnings as errors (benchmarks compiled too), then an
+# ASan/UBSan build of the library and tests.
 test: test-release test-asan
 
 test-release:
@@ -31,7 +32,8 @@ test-release:
 	ctest --test-dir build-ci --output-on-failure -j $(JOBS)
 
 test-asan:
-	cmake -S . -B build-asan $(GENERATOR) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DARTEMIS_WERROR=ON -DARTEMIS_SANITIZE=ON
+	cmake -S . -B build-asan $(GENERATOR) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DARTEMIS_WERROR=ON -DARTEMIS_SANITIZE=ON \
+	  -DARTEMIS_BUILD_BENCHMARKS=OFF
 	cmake --build build-asan -j $(JOBS)
 	ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
 	  ctest --test-dir build-asan --output-on-failure -j $(JOBS)
