@@ -9,6 +9,7 @@
 #include <utility>
 
 #include "artemis/sim/scene.hpp"
+#include "colour.hpp"
 #include "mesh_builder.hpp"
 #include "noise.hpp"
 
@@ -107,9 +108,7 @@ Isometry3d frameAt(const Vector3d& p, double yaw) {
   return T;
 }
 
-Vector3f rgb(double r, double g, double b) {
-  return {static_cast<float>(r), static_cast<float>(g), static_cast<float>(b)};
-}
+using detail::rgb;
 
 // Occupied stretches of x along one side's strip, so that objects of one kind keep apart.
 class Intervals {

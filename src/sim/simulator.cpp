@@ -8,6 +8,7 @@
 #include <numbers>
 #include <stdexcept>
 
+#include "colour.hpp"
 #include "noise.hpp"
 #include "raycaster.hpp"
 
@@ -56,11 +57,6 @@ namespace {
 double distanceAt(const TrajectoryParams& p, double t) {
   const double w = 2.0 * std::numbers::pi / p.speed_period_s;
   return p.speed_mean_mps * t + p.speed_amplitude_mps * (1.0 - std::cos(w * t)) / w;
-}
-
-double srgbEncode(double linear) {
-  const double c = std::clamp(linear, 0.0, 1.0);
-  return c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055;
 }
 
 }  // namespace
@@ -235,7 +231,7 @@ CameraImages Simulator::render(int frame) const {
         for (int c = 0; c < 3; ++c) {
           const double noise =
               p.noise_sigma * detail::gaussian(detail::hash(frame_seed, pixel, static_cast<std::uint64_t>(c)));
-          const double value = 255.0 * srgbEncode(exposure * linear(c)) + noise;
+          const double value = 255.0 * detail::srgbEncode(exposure * linear(c)) + noise;
           out.rgb.at(u, v, c) = static_cast<std::uint8_t>(std::clamp(std::lround(value), 0L, 255L));
         }
       }

@@ -6,6 +6,7 @@
 #include <cmath>
 
 #include "artemis/sim/scene.hpp"
+#include "colour.hpp"
 #include "noise.hpp"
 
 namespace artemis::sim {
@@ -23,9 +24,7 @@ using detail::unit;
 Vector3f grey(double v) {
   return Vector3f::Constant(static_cast<float>(v));
 }
-Vector3f rgb(double r, double g, double b) {
-  return {static_cast<float>(r), static_cast<float>(g), static_cast<float>(b)};
-}
+using detail::rgb;
 
 // Fine grain: one random value per `cell` metre cube.
 double grain(std::uint64_t seed, const Vector3d& p, double cell) {

@@ -14,6 +14,7 @@
 #include "artemis/io/ply.hpp"
 #include "artemis/io/png.hpp"
 #include "artemis/sim/simulator.hpp"
+#include "colour.hpp"
 
 namespace artemis::sim {
 
@@ -52,9 +53,7 @@ std::string numbers(const std::array<double, 12>& v) {
 }
 
 std::uint8_t srgb8(float linear) {
-  const double c = std::clamp(static_cast<double>(linear), 0.0, 1.0);
-  const double s = c <= 0.0031308 ? 12.92 * c : 1.055 * std::pow(c, 1.0 / 2.4) - 0.055;
-  return static_cast<std::uint8_t>(std::lround(255.0 * s));
+  return static_cast<std::uint8_t>(std::lround(255.0 * detail::srgbEncode(static_cast<double>(linear))));
 }
 
 ImageU8 colourClasses(const ImageU16& classes) {
