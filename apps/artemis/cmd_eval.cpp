@@ -10,7 +10,10 @@
 
 #include "artemis/core/log.hpp"
 #include "artemis/core/timer.hpp"
+#include "artemis/datasets/pose_file.hpp"
 #include "artemis/eval/geometry.hpp"
+#include "artemis/eval/trajectory.hpp"
+#include "artemis/io/file.hpp"
 #include "commands.hpp"
 #include "progress.hpp"
 
@@ -167,6 +170,65 @@ int runMeshEval(const MeshEvalFlags& flags) {
   return 0;
 }
 
+struct TrajectoryEvalFlags {
+  std::string estimate;
+  std::string reference;
+  std::vector<std::size_t> windows{10};
+  std::string json;
+};
+
+int runTrajectoryEval(const TrajectoryEvalFlags& flags) {
+  auto estimate = datasets::readPoseFile(flags.estimate);
+  auto reference = datasets::readPoseFile(flags.reference);
+  for (const auto* r : {&estimate, &reference}) {
+    if (!*r) {
+      log::error("{}", r->status().message());
+      return 1;
+    }
+  }
+  nlohmann::ordered_json j{{"estimate", flags.estimate}, {"reference", flags.reference}};
+  nlohmann::ordered_json rpe = nlohmann::ordered_json::array();
+  fmt::print("{} against {} ({} poses)\n", flags.estimate, flags.reference, estimate->size());
+  fmt::print("relative pose error     {:>9} {:>9} {:>9} {:>9}   {:>9} {:>9} {:>9}\n", "mean_cm", "rmse_cm",
+             "median_cm", "max_cm", "mean_deg", "rmse_deg", "max_deg");
+  for (const std::size_t window : flags.windows) {
+    auto e = eval::relativePoseError(*estimate, *reference, window);
+    if (!e) {
+      log::error("{} against {}: {}", flags.estimate, flags.reference, e.status().message());
+      return 1;
+    }
+    const auto& t = e->translation_m;
+    const auto& r = e->rotation_deg;
+    fmt::print("  over {:>3} frames ({:>3})  {:>9.2f} {:>9.2f} {:>9.2f} {:>9.2f}   {:>9.3f} {:>9.3f} {:>9.3f}\n", window,
+               e->pairs, 100 * t.mean, 100 * t.rmse, 100 * t.median, 100 * t.max, r.mean, r.rmse, r.max);
+    rpe.push_back({{"window", window},
+                   {"pairs", e->pairs},
+                   {"translation_m", {{"mean", t.mean}, {"rmse", t.rmse}, {"median", t.median}, {"max", t.max}}},
+                   {"rotation_deg", {{"mean", r.mean}, {"rmse", r.rmse}, {"median", r.median}, {"max", r.max}}}});
+  }
+  auto d = eval::drift(*estimate, *reference);
+  if (!d) {
+    log::error("{} against {}: {}", flags.estimate, flags.reference, d.status().message());
+    return 1;
+  }
+  fmt::print("drift: {:.3f} m after {:.1f} m ({:.2f} %), worst {:.2f} % of the path so far; end rotation {:.3f} deg\n",
+             d->end_error_m, d->path_m, d->end_percent, d->max_percent, d->end_rotation_deg);
+  j["relative_pose_error"] = rpe;
+  j["drift"] = {{"path_m", d->path_m},
+                {"end_error_m", d->end_error_m},
+                {"end_percent", d->end_percent},
+                {"max_percent", d->max_percent},
+                {"end_rotation_deg", d->end_rotation_deg}};
+  if (!flags.json.empty()) {
+    const std::string text = j.dump(2) + "\n";
+    if (Status s = io::writeFileAtomic(flags.json, std::as_bytes(std::span(text.data(), text.size()))); !s.isOk()) {
+      log::error("{}", s.message());
+      return 1;
+    }
+  }
+  return 0;
+}
+
 }  // namespace
 
 void addEvalCommands(CLI::App& app, int& exit_code) {
@@ -198,6 +260,17 @@ void addEvalCommands(CLI::App& app, int& exit_code) {
   mesh->add_option("--seed", flags->params.seed, "Seed of the surface sampling")->capture_default_str();
   mesh->add_option("--json", flags->json, "Also write the scores to this JSON file");
   mesh->callback([flags, &exit_code] { exit_code = runMeshEval(*flags); });
+
+  auto tflags = std::make_shared<TrajectoryEvalFlags>();
+  auto* traj = eval->add_subcommand(
+      "trajectory",
+      "Relative pose error over frame windows and drift of a trajectory file (12 numbers a line, e.g. a run's "
+      "trajectory.txt) against a reference of the same frames");
+  traj->add_option("TRAJECTORY", tflags->estimate, "Estimated poses")->required();
+  traj->add_option("--ref", tflags->reference, "Reference poses, one line per line of TRAJECTORY")->required();
+  traj->add_option("--window", tflags->windows, "Window lengths in frames")->capture_default_str()->expected(1, -1);
+  traj->add_option("--json", tflags->json, "Also write the figures to this JSON file");
+  traj->callback([tflags, &exit_code] { exit_code = runTrajectoryEval(*tflags); });
 }
 
 }  // namespace artemis::cli

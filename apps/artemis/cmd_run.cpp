@@ -21,8 +21,26 @@ namespace fs = std::filesystem;
 struct RunFlags {
   DatasetFlags dataset;
   std::string out = "out/run";
+  std::string pose_refinement = "auto";
   pipeline::RunParams params;
 };
+
+// "auto": on where the poses come from GPS/IMU (KITTI raw's OXTS) or there are none; off where the
+// recording's or the user's poses are taken as they are (KITTI odometry ground truth, a poses file).
+Result<bool> resolvePoseRefinement(const RunFlags& f, const datasets::Dataset& dataset) {
+  const bool no_poses = f.dataset.poses == "none" || !dataset.hasPoses();
+  if (f.pose_refinement == "off") {
+    if (no_poses) {
+      return invalidArgument(f.dataset.poses == "none"
+                                 ? "--poses none needs --pose-refinement on: registration is then the only source of poses"
+                                 : dataset.root().string() + " has no poses: --pose-refinement off cannot map it");
+    }
+    return false;
+  }
+  if (f.pose_refinement == "on") return true;
+  if (no_poses) return true;
+  return dataset.format() == "kitti-raw" && f.dataset.poses.empty();
+}
 
 nlohmann::ordered_json configJson(const RunFlags& f, const std::string& dataset_path) {
   const auto& m = f.params.mapper;
@@ -33,7 +51,17 @@ nlohmann::ordered_json configJson(const RunFlags& f, const std::string& dataset_
             {"min_range_m", f.dataset.min_range_m},
             {"max_range_m", f.dataset.max_range_m},
             {"vertical_correction", f.dataset.vertical_correction},
-            {"poses", f.dataset.poses}}},
+            {"poses", f.dataset.poses.empty() ? "recording" : f.dataset.poses}}},
+          {"registration",
+           {{"pose_refinement", f.params.pose_refinement},
+            {"prior", f.params.use_recording_poses ? "recording motion" : "constant velocity"},
+            {"deskew", f.params.deskew},
+            {"source_voxel_m", f.params.registration.source_voxel_m},
+            {"map_voxel_m", f.params.registration.map.voxel_size_m},
+            {"map_subdivisions", f.params.registration.map.subdivisions},
+            {"initial_distance_m", f.params.registration.initial_distance_m},
+            {"min_distance_m", f.params.registration.min_distance_m},
+            {"fine_distance_m", f.params.registration.icp.min_distance_m}}},
           {"voxels", {{"voxel_size_m", m.voxels.voxel_size_m}, {"subdivisions", m.voxels.subdivisions}}},
           {"mesher",
            {{"rim_m", m.mesher.rim_m},
@@ -80,6 +108,14 @@ int runRun(RunFlags flags) {
     log::error("{}", dataset.status().message());
     return 1;
   }
+  auto refine = resolvePoseRefinement(flags, **dataset);
+  if (!refine) {
+    log::error("{}", refine.status().message());
+    return 1;
+  }
+  flags.params.pose_refinement = *refine;
+  flags.params.use_recording_poses = flags.dataset.poses != "none" && (*dataset)->hasPoses();
+  flags.params.registration.threads = flags.params.mapper.threads;
   const std::string config = configJson(flags, (*dataset)->root().string()).dump(2) + "\n";
   log::info("settings: {}", nlohmann::json::parse(config).dump());
   log::info("{} frames of {} ({})", (*dataset)->size(), (*dataset)->root().string(), (*dataset)->format());
@@ -95,9 +131,18 @@ int runRun(RunFlags flags) {
   const auto total = report->times.summary("total");
   const auto insert = report->times.summary("insert");
   const auto mesh = report->times.summary("mesh");
+  const auto reg = report->times.summary("register");
   fmt::print("{} frames{}: {} vertices, {} faces -> {}/mesh.ply\n", report->frames,
              report->frames_failed > 0 ? fmt::format(" ({} skipped)", report->frames_failed) : "", report->vertices,
              report->faces, flags.out);
+  if (!report->registrations.empty()) {
+    fmt::print("pose refinement: {} frames registered, {} kept their prior, {} degenerate -> {}/trajectory.txt\n",
+               report->registrations.size() - report->registration_fallbacks, report->registration_fallbacks,
+               report->degenerate_frames, flags.out);
+  }
+  if (!report->times.samples("register").empty()) {
+    fmt::print("per frame (median / p95 ms): register {:.1f} / {:.1f}\n", reg.median_ms, reg.p95_ms);
+  }
   fmt::print(
       "per frame (median / p95 ms): insert {:.1f} / {:.1f}, mesh {:.1f} / {:.1f}, total with reading "
       "{:.1f} / {:.1f}; final meshing {:.0f} ms; peak memory {:.0f} MB; {:.1f} s in all\n",
@@ -131,6 +176,20 @@ void addRunCommand(CLI::App& app, int& exit_code) {
   cmd->add_option("--rim", m.mesher.rim_m, "Neighbour points this close to a voxel join its triangulation (m)")
       ->capture_default_str();
   cmd->add_option("--threads", m.threads, "Worker threads (0: all cores)")->capture_default_str();
+  cmd->add_option("--pose-refinement", flags->pose_refinement,
+                  "Scan-to-map registration of every frame before mapping: on, off, or auto (on for GPS/IMU "
+                  "poses such as KITTI raw's, and without poses)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"auto", "on", "off"}));
+  cmd->add_flag("--deskew", flags->params.deskew,
+                "Motion-compensate each sweep from the motion estimate (recordings with sweep start/end "
+                "stamps, such as KITTI raw)");
+  auto& r = flags->params.registration;
+  cmd->add_option("--registration-voxel", r.source_voxel_m, "Registration keeps one scan point per cell of this size (m)")
+      ->capture_default_str();
+  cmd->add_option("--registration-fine-distance", r.icp.min_distance_m,
+                  "Correspondence distance of registration's finest stage (m)")
+      ->capture_default_str();
   cmd->callback([flags, &exit_code] { exit_code = runRun(*flags); });
 }
 

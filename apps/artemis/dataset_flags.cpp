@@ -31,8 +31,9 @@ void DatasetFlags::addTo(CLI::App& app, bool with_poses) {
       ->capture_default_str();
   if (with_poses) {
     app.add_option("--poses", poses,
-                   "Replace the recording's poses with this file: one T_W_L per recording frame, 12 "
-                   "numbers a line (row-major 3x4)");
+                   "Replace the recording's poses with this file (one T_W_L per recording frame, 12 "
+                   "numbers a line, row-major 3x4), or 'none' to ignore them (then poses come from "
+                   "scan-to-map registration alone)");
   }
 }
 
@@ -53,7 +54,7 @@ Result<std::unique_ptr<datasets::Dataset>> DatasetFlags::open(bool load_images) 
   const std::filesystem::path where = path.empty() ? defaultDataDir() / "kitti_raw" : std::filesystem::path(path);
   auto dataset = datasets::openDataset(where, *format_id, options);
   if (!dataset) return dataset.status();
-  if (!poses.empty()) {
+  if (!poses.empty() && poses != "none") {
     auto T_W_L = datasets::readPoseFile(poses);
     if (!T_W_L) return T_W_L.status();
     if (Status s = (*dataset)->setPoses(std::move(T_W_L.value())); !s.isOk()) {

@@ -2,13 +2,16 @@
 
 #include <fmt/format.h>
 
+#include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 
 #include "artemis/core/log.hpp"
 #include "artemis/core/timer.hpp"
 #include "artemis/io/file.hpp"
 #include "artemis/io/ply.hpp"
+#include "artemis/registration/deskew.hpp"
 
 namespace artemis::pipeline {
 
@@ -45,7 +48,9 @@ std::string timingJson(const RunReport& report) {
   nlohmann::ordered_json j;
   j["frames"] = report.frames;
   nlohmann::ordered_json stages = nlohmann::ordered_json::object();
-  for (const std::string& stage : {std::string("read"), std::string("insert"), std::string("mesh")}) {
+  for (const std::string& stage : {std::string("read"), std::string("register"), std::string("insert"),
+                                   std::string("mesh")}) {
+    if (report.times.samples(stage).empty()) continue;
     const StageSummary s = report.times.summary(stage);
     stages[stage] = {{"median_ms", s.median_ms}, {"p95_ms", s.p95_ms}, {"max_ms", s.max_ms}};
   }
@@ -58,6 +63,32 @@ std::string timingJson(const RunReport& report) {
   return j.dump(2) + "\n";
 }
 
+std::string registrationJson(const RunReport& report) {
+  nlohmann::ordered_json frames = nlohmann::ordered_json::array();
+  for (std::size_t k = 0; k < report.registrations.size(); ++k) {
+    const auto& r = report.registrations[k];
+    frames.push_back({{"frame", report.registered_frames[k]},
+                      {"fallback", r.fallback},
+                      {"reason", r.reason},
+                      {"iterations", r.icp.iterations},
+                      {"correspondences", r.icp.correspondences},
+                      {"rms_m", r.icp.rms_m},
+                      {"correction_m", r.correction_m},
+                      {"correction_deg", r.correction_deg},
+                      {"first_distance_m", r.first_distance_m},
+                      {"degenerate_directions", r.icp.degenerate_directions},
+                      {"source_points", r.source_points},
+                      {"ms", r.ms},
+                      {"icp_ms", r.icp_ms},
+                      {"map_ms", r.map_ms}});
+  }
+  nlohmann::ordered_json j;
+  j["frames"] = frames;
+  j["fallbacks"] = report.registration_fallbacks;
+  j["degenerate_frames"] = report.degenerate_frames;
+  return j.dump(1) + "\n";
+}
+
 Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& params, const fs::path& out,
                               const std::string& config_json, const ProgressFn& progress) {
   std::error_code ec;
@@ -67,10 +98,31 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
 
   RunReport report;
   mapping::Mapper mapper(params.mapper);
+  const bool recording_poses = params.use_recording_poses && dataset.hasPoses();
+  if (!params.pose_refinement && !recording_poses) {
+    return invalidArgument("without the recording's poses, pose refinement must be on (it is the only source of poses)");
+  }
+  std::unique_ptr<registration::Odometry> odometry;
+  if (params.pose_refinement) odometry = std::make_unique<registration::Odometry>(params.registration);
+  bool warned_no_sweep = false;
+
   std::string trajectory;
+  std::optional<Isometry3d> last_T;  // pose of the last mapped frame
+  std::size_t last_i = 0;
+  double last_stamp_s = 0.0;
   dataset.rewind();
   const std::size_t total = dataset.size();
   for (std::size_t i = 0; i < total; ++i) {
+    // The prior: the recording's motion since the last mapped frame, composed with that frame's
+    // (possibly refined) pose; or a constant-velocity guess.
+    Isometry3d prior = recording_poses ? dataset.pose(i) : Isometry3d::Identity();
+    if (last_T) {
+      if (recording_poses) {
+        prior = *last_T * dataset.pose(last_i).inverse() * dataset.pose(i);
+      } else {
+        prior = odometry->predictConstantVelocity(static_cast<int>(i - last_i));
+      }
+    }
     Stopwatch frame_clock;
     auto frame = dataset.next();
     const double read_ms = frame_clock.elapsedMs();
@@ -78,15 +130,50 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
       if (frame.status().code() == StatusCode::kEndOfData) break;
       log::warn("frame {} skipped: {}", dataset.firstIndex() + i, frame.status().message());
       ++report.frames_failed;
-      trajectory += formatRowMajor3x4(dataset.pose(i)) + "\n";  // line k stays frame k
+      trajectory += formatRowMajor3x4(prior) + "\n";  // line k stays frame k
       continue;
     }
-    const mapping::FrameStats stats = mapper.integrate(frame->points_L, frame->T_W_L);
+    Isometry3d T_W_L = prior;
+    if (odometry || params.deskew) {
+      Stopwatch register_clock;
+      if (params.deskew && last_T) {
+        const registration::SweepTiming timing{frame->stamp_s, frame->scan_start_s, frame->scan_end_s};
+        if (timing.known()) {
+          registration::deskewScan(frame->points_L.points, last_T->inverse() * prior, frame->stamp_s - last_stamp_s,
+                                   timing);
+        } else if (!warned_no_sweep) {
+          log::warn("{}: no sweep start/end stamps, so scans are not deskewed", dataset.root().string());
+          warned_no_sweep = true;
+        }
+      }
+      if (odometry) {
+        auto reg = odometry->registerScan(frame->points_L.points, prior);
+        T_W_L = reg.T_W_L;
+        if (reg.fallback) {
+          ++report.registration_fallbacks;
+          log::warn("frame {}: registration kept the prior pose ({})", frame->index, reg.reason);
+        } else if (reg.icp.degenerate_directions > 0) {
+          ++report.degenerate_frames;
+          log::warn("frame {}: {}", frame->index, reg.reason);
+        }
+        log::debug("frame {}: registered in {:.1f} ms, {} iterations, {} correspondences, rms {:.3f} m, "
+                   "correction {:.3f} m {:.3f} deg",
+                   frame->index, reg.ms, reg.icp.iterations, reg.icp.correspondences, reg.icp.rms_m,
+                   reg.correction_m, reg.correction_deg);
+        report.registrations.push_back(std::move(reg));
+        report.registered_frames.push_back(frame->index);
+      }
+      report.times.add("register", register_clock.elapsedMs());
+    }
+    const mapping::FrameStats stats = mapper.integrate(frame->points_L, T_W_L);
     report.times.add("read", read_ms);
     report.times.add("insert", stats.insert_ms);
     report.times.add("mesh", stats.mesh_ms);
     report.times.add("total", frame_clock.elapsedMs());
-    trajectory += formatRowMajor3x4(frame->T_W_L) + "\n";
+    trajectory += formatRowMajor3x4(T_W_L) + "\n";
+    last_T = T_W_L;
+    last_i = i;
+    last_stamp_s = frame->stamp_s;
     ++report.frames;
     log::debug("frame {}: {} points, {} kept, {} active voxels, {} meshed, insert {:.1f} ms, mesh {:.1f} ms",
                frame->index, stats.points, stats.points_kept, stats.active_voxels, stats.meshed_voxels, stats.insert_ms,
@@ -104,6 +191,9 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
   report.faces = mapper.mesh().faceCount();
   if (Status s = writeMeshPly(mapper.mesh(), out / "mesh.ply"); !s.isOk()) return s;
   if (Status s = writeText(out / "trajectory.txt", trajectory); !s.isOk()) return s;
+  if (odometry) {
+    if (Status s = writeText(out / "registration.json", registrationJson(report)); !s.isOk()) return s;
+  }
   report.peak_rss_mb = peakRssMb();
   if (Status s = writeText(out / "timing.json", timingJson(report)); !s.isOk()) return s;
   return report;

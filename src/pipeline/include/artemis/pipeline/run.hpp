@@ -1,7 +1,9 @@
 #pragma once
 // `artemis run`: reads a recording frame by frame, builds the Living Map, and writes
 //   <out>/mesh.ply        binary PLY: float x y z, float nx ny nz (towards the sensor), faces
-//   <out>/trajectory.txt  T_W_L of every processed frame, 12 numbers a line (row-major 3x4)
+//   <out>/trajectory.txt  T_W_L of every frame of the range (registered where pose refinement is
+//                         on), 12 numbers a line (row-major 3x4)
+//   <out>/registration.json  with pose refinement: per frame, what ICP did (see registrationJson)
 //   <out>/config.json     the effective settings (given by the caller)
 //   <out>/timing.json     {"frames": N, "stages": {"<stage>": {"median_ms", "p95_ms", "max_ms"}, ...,
 //                          "total": {...}}, "peak_rss_mb": ...}
@@ -15,11 +17,21 @@
 #include "artemis/datasets/dataset.hpp"
 #include "artemis/mapping/mapper.hpp"
 #include "artemis/pipeline/timing.hpp"
+#include "artemis/registration/odometry.hpp"
 
 namespace artemis::pipeline {
 
 struct RunParams {
   mapping::MapperParams mapper;
+  // Scan-to-map registration of every frame before it is mapped. Its prior is the recording's
+  // relative motion, or a constant-velocity guess when use_recording_poses is false or the
+  // recording has no poses (then refinement is the only source of poses).
+  bool pose_refinement = false;
+  bool use_recording_poses = true;
+  registration::OdometryParams registration;
+  // Motion compensation of each sweep from the motion estimate (prior motion since the last frame);
+  // only for recordings with sweep start and end stamps.
+  bool deskew = false;
 };
 
 struct RunReport {
@@ -27,9 +39,13 @@ struct RunReport {
   std::size_t frames_failed = 0;  // unreadable frames, logged and skipped
   std::size_t vertices = 0;
   std::size_t faces = 0;
-  StageTimes times;  // stages "read", "insert", "mesh", "total" per frame
+  StageTimes times;  // stages "read", ["register",] "insert", "mesh", "total" per frame
   double finish_ms = 0.0;
   double peak_rss_mb = 0.0;
+  std::vector<registration::FrameRegistration> registrations;  // one per mapped frame, with refinement
+  std::vector<std::size_t> registered_frames;                   // their recording indices
+  std::size_t registration_fallbacks = 0;  // frames whose prior pose was kept
+  std::size_t degenerate_frames = 0;       // frames registered with a degenerate direction
 };
 
 using ProgressFn = std::function<void(std::size_t done, std::size_t total)>;
@@ -43,5 +59,10 @@ Status writeMeshPly(const mapping::SemanticMesh& mesh, const std::filesystem::pa
 
 // timing.json text of a report.
 std::string timingJson(const RunReport& report);
+
+// registration.json text: {"frames": [{"frame", "fallback", "reason", "iterations",
+// "correspondences", "rms_m", "correction_m", "correction_deg", "first_distance_m",
+// "degenerate_directions", "source_points", "ms"}, ...], "fallbacks": N, "degenerate_frames": N}.
+std::string registrationJson(const RunReport& report);
 
 }  // namespace artemis::pipeline

@@ -1,0 +1,33 @@
+#pragma once
+// Motion compensation ("deskewing") of a spinning LiDAR's sweep. A sweep of KITTI's HDL-64E turns
+// clockwise seen from above, starts and ends facing backwards (-x) and faces forwards (+x) at the
+// frame's stamp, when it triggers the cameras; a point's time within the sweep follows from its
+// azimuth. Each point is moved to where the sensor would have seen it at the stamp, under a
+// constant motion over the sweep.
+
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "artemis/core/transform.hpp"
+
+namespace artemis::registration {
+
+struct SweepTiming {
+  double stamp_s = 0.0;  // the time the scan's pose refers to
+  double start_s = 0.0;  // sweep start and end; equal to stamp_s when the recording lacks them
+  double end_s = 0.0;
+  [[nodiscard]] bool known() const { return end_s > start_s; }
+};
+
+// Share of the sweep done when the beam pointed at `p` (LiDAR frame): 0 at the start (behind the
+// sensor), 0.5 facing forwards, 1 at the end.
+double sweepFraction(const Eigen::Vector3f& p);
+
+// `motion` = T_Lprev_Lcur, the sensor's motion over `period_s` seconds (the frame before to this
+// one). A point seen at time tau is moved by the motion from tau to the stamp, interpolated
+// linearly in translation and in rotation angle. Does nothing unless timing.known() and period_s > 0.
+void deskewScan(std::vector<Eigen::Vector3f>& points_L, const Isometry3d& motion, double period_s,
+                const SweepTiming& timing);
+
+}  // namespace artemis::registration
