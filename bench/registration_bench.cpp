@@ -4,10 +4,11 @@
 // beside the OXTS poses' own errors. Runs: priors from the OXTS motion, constant velocity
 // (no poses), and each with deskewing and with the vertical-angle correction.
 //
-//   build/bench/registration_bench [--threads N] [--runs oxts,none,deskew,vertical]
+//   build/bench/registration_bench [--threads N] [--runs oxts,none,deskew,vertical] [--repeat N]
 //                                  [--source-voxel M] [--fine-distance M] [--kernel-ratio R]
 // Data: $ARTEMIS_DATA_DIR/kitti_raw (default ../shared/data/kitti_raw). Scans are read before the
-// clock starts.
+// clock starts. Each run is repeated (--repeat, default 3) and every repetition's median printed:
+// on a shared machine the spread between them is the noise.
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -41,7 +42,9 @@ struct Percentiles {
 Percentiles percentiles(std::vector<double> v) {
   if (v.empty()) return {};
   std::sort(v.begin(), v.end());
-  const auto at = [&](double q) { return v[std::min(v.size() - 1, static_cast<std::size_t>(q * static_cast<double>(v.size() - 1) + 0.5))]; };
+  const auto at = [&](double q) {
+    return v[std::min(v.size() - 1, static_cast<std::size_t>(q * static_cast<double>(v.size() - 1) + 0.5))];
+  };
   return {at(0.5), at(0.95)};
 }
 
@@ -77,17 +80,19 @@ void report(const std::string& name, const std::vector<Isometry3d>& poses, const
   const auto rpe = eval::relativePoseError(poses, reference, 10);
   const auto d = eval::drift(poses, reference);
   if (!rpe || !d) return;
-  fmt::print("  {:<28} RPE/10 frames: {:.2f} cm rmse, {:.2f} cm max, {:.3f} deg rmse, {:.3f} deg max; drift {:.2f} % "
-             "({:.3f} m after {:.1f} m)\n",
-             name, 100 * rpe->translation_m.rmse, 100 * rpe->translation_m.max, rpe->rotation_deg.rmse,
-             rpe->rotation_deg.max, d->end_percent, d->end_error_m, d->path_m);
+  fmt::print(
+      "  {:<28} RPE/10 frames: {:.2f} cm rmse, {:.2f} cm max, {:.3f} deg rmse, {:.3f} deg max; drift {:.2f} % "
+      "({:.3f} m after {:.1f} m)\n",
+      name, 100 * rpe->translation_m.rmse, 100 * rpe->translation_m.max, rpe->rotation_deg.rmse, rpe->rotation_deg.max,
+      d->end_percent, d->end_error_m, d->path_m);
 }
 
-std::vector<Isometry3d> run(const std::string& name, Recording rec, bool use_prior, bool deskew,
-                            const registration::OdometryParams& params, const std::vector<Isometry3d>& reference) {
+std::vector<Isometry3d> runOnce(const std::string& name, Recording rec, bool use_prior, bool deskew,
+                                const registration::OdometryParams& params, const std::vector<Isometry3d>& reference,
+                                bool print_accuracy) {
   registration::Odometry odometry(params);
   std::vector<Isometry3d> poses;
-  std::vector<double> total_ms, icp_ms, map_ms, iterations;
+  std::vector<double> total_ms, icp_ms, map_ms, iterations, rms;
   std::size_t fallbacks = 0;
   for (std::size_t i = 0; i < rec.frames.size(); ++i) {
     Frame& f = rec.frames[i];
@@ -97,8 +102,8 @@ std::vector<Isometry3d> run(const std::string& name, Recording rec, bool use_pri
     }
     Stopwatch clock;
     if (deskew && i > 0) {
-      registration::deskewScan(f.points_L.points, poses.back().inverse() * prior,
-                               f.stamp_s - rec.frames[i - 1].stamp_s, {f.stamp_s, f.scan_start_s, f.scan_end_s});
+      registration::deskewScan(f.points_L.points, poses.back().inverse() * prior, f.stamp_s - rec.frames[i - 1].stamp_s,
+                               {f.stamp_s, f.scan_start_s, f.scan_end_s});
     }
     const auto reg = odometry.registerScan(f.points_L.points, prior);
     const double ms = clock.elapsedMs();
@@ -108,16 +113,28 @@ std::vector<Isometry3d> run(const std::string& name, Recording rec, bool use_pri
     icp_ms.push_back(reg.icp_ms);
     map_ms.push_back(reg.map_ms);
     iterations.push_back(reg.icp.iterations);
+    rms.push_back(100 * reg.icp.rms_m);
     fallbacks += reg.fallback ? 1 : 0;
   }
   const auto t = percentiles(total_ms);
   const auto c = percentiles(icp_ms);
   const auto m = percentiles(map_ms);
-  fmt::print("{}: registration {:.1f} / {:.1f} ms a frame (median / p95), ICP {:.1f} / {:.1f}, map update {:.1f} / "
-             "{:.1f}; {:.0f} iterations median; {} fallbacks\n",
-             name, t.median, t.p95, c.median, c.p95, m.median, m.p95, percentiles(iterations).median, fallbacks);
-  report("registered", poses, reference);
+  fmt::print(
+      "{}: registration {:.1f} / {:.1f} ms a frame (median / p95), ICP {:.1f} / {:.1f}, map update {:.1f} / "
+      "{:.1f}; {:.0f} iterations median; point-to-plane rms {:.2f} cm median; {} fallbacks\n",
+      name, t.median, t.p95, c.median, c.p95, m.median, m.p95, percentiles(iterations).median, percentiles(rms).median,
+      fallbacks);
+  if (print_accuracy) report("registered", poses, reference);
   return poses;
+}
+
+int g_repeat = 3;
+
+void run(const std::string& name, const Recording& rec, bool use_prior, bool deskew,
+         const registration::OdometryParams& params, const std::vector<Isometry3d>& reference) {
+  for (int k = 0; k < g_repeat; ++k) {
+    runOnce(fmt::format("{} #{}", name, k + 1), rec, use_prior, deskew, params, reference, k + 1 == g_repeat);
+  }
 }
 
 }  // namespace
@@ -128,19 +145,34 @@ int main(int argc, char** argv) {
   for (int i = 1; i + 1 < argc; i += 2) {
     const std::string arg = argv[i];
     const char* value = argv[i + 1];
-    if (arg == "--threads") params.threads = std::atoi(value);
-    else if (arg == "--runs") runs = value;
-    else if (arg == "--source-voxel") params.source_voxel_m = std::atof(value);
-    else if (arg == "--fine-distance") params.icp.min_distance_m = std::atof(value);
-    else if (arg == "--kernel-ratio") params.icp.kernel_ratio = std::atof(value);
-    else if (arg == "--min-kernel") params.icp.min_kernel_m = std::atof(value);
-    else if (arg == "--min-first") params.min_distance_m = std::atof(value);
-    else if (arg == "--map-subdivisions") params.map.subdivisions = std::atoi(value);
-    else if (arg == "--map-voxel") params.map.voxel_size_m = std::atof(value);
-    else if (arg == "--normal-radius") params.map.normal_radius_m = std::atof(value);
-    else if (arg == "--flatness") params.map.max_flatness = std::atof(value);
-    else if (arg == "--research") params.icp.research_motion_m = std::atof(value);
-    else if (arg == "--tolerance") params.icp.converged_translation_m = std::atof(value);
+    if (arg == "--threads")
+      params.threads = std::atoi(value);
+    else if (arg == "--runs")
+      runs = value;
+    else if (arg == "--repeat")
+      g_repeat = std::max(1, std::atoi(value));
+    else if (arg == "--source-voxel")
+      params.source_voxel_m = std::atof(value);
+    else if (arg == "--fine-distance")
+      params.icp.min_distance_m = std::atof(value);
+    else if (arg == "--kernel-ratio")
+      params.icp.kernel_ratio = std::atof(value);
+    else if (arg == "--min-kernel")
+      params.icp.min_kernel_m = std::atof(value);
+    else if (arg == "--min-first")
+      params.min_distance_m = std::atof(value);
+    else if (arg == "--map-subdivisions")
+      params.map.subdivisions = std::atoi(value);
+    else if (arg == "--map-voxel")
+      params.map.voxel_size_m = std::atof(value);
+    else if (arg == "--normal-radius")
+      params.map.normal_radius_m = std::atof(value);
+    else if (arg == "--flatness")
+      params.map.max_flatness = std::atof(value);
+    else if (arg == "--research")
+      params.icp.research_motion_m = std::atof(value);
+    else if (arg == "--tolerance")
+      params.icp.converged_translation_m = std::atof(value);
     else {
       fmt::print(stderr, "unknown option {}\n", arg);
       return 2;

@@ -189,8 +189,8 @@ int runTrajectoryEval(const TrajectoryEvalFlags& flags) {
   nlohmann::ordered_json j{{"estimate", flags.estimate}, {"reference", flags.reference}};
   nlohmann::ordered_json rpe = nlohmann::ordered_json::array();
   fmt::print("{} against {} ({} poses)\n", flags.estimate, flags.reference, estimate->size());
-  fmt::print("relative pose error     {:>9} {:>9} {:>9} {:>9}   {:>9} {:>9} {:>9}\n", "mean_cm", "rmse_cm",
-             "median_cm", "max_cm", "mean_deg", "rmse_deg", "max_deg");
+  fmt::print("relative pose error     {:>9} {:>9} {:>9} {:>9}   {:>9} {:>9} {:>9}\n", "mean_cm", "rmse_cm", "median_cm",
+             "max_cm", "mean_deg", "rmse_deg", "max_deg");
   for (const std::size_t window : flags.windows) {
     auto e = eval::relativePoseError(*estimate, *reference, window);
     if (!e) {
@@ -199,8 +199,8 @@ int runTrajectoryEval(const TrajectoryEvalFlags& flags) {
     }
     const auto& t = e->translation_m;
     const auto& r = e->rotation_deg;
-    fmt::print("  over {:>3} frames ({:>3})  {:>9.2f} {:>9.2f} {:>9.2f} {:>9.2f}   {:>9.3f} {:>9.3f} {:>9.3f}\n", window,
-               e->pairs, 100 * t.mean, 100 * t.rmse, 100 * t.median, 100 * t.max, r.mean, r.rmse, r.max);
+    fmt::print("  over {:>3} frames ({:>3})  {:>9.2f} {:>9.2f} {:>9.2f} {:>9.2f}   {:>9.3f} {:>9.3f} {:>9.3f}\n",
+               window, e->pairs, 100 * t.mean, 100 * t.rmse, 100 * t.median, 100 * t.max, r.mean, r.rmse, r.max);
     rpe.push_back({{"window", window},
                    {"pairs", e->pairs},
                    {"translation_m", {{"mean", t.mean}, {"rmse", t.rmse}, {"median", t.median}, {"max", t.max}}},

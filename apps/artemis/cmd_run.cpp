@@ -31,9 +31,10 @@ Result<bool> resolvePoseRefinement(const RunFlags& f, const datasets::Dataset& d
   const bool no_poses = f.dataset.poses == "none" || !dataset.hasPoses();
   if (f.pose_refinement == "off") {
     if (no_poses) {
-      return invalidArgument(f.dataset.poses == "none"
-                                 ? "--poses none needs --pose-refinement on: registration is then the only source of poses"
-                                 : dataset.root().string() + " has no poses: --pose-refinement off cannot map it");
+      return invalidArgument(
+          f.dataset.poses == "none"
+              ? "--poses none needs --pose-refinement on: registration is then the only source of poses"
+              : dataset.root().string() + " has no poses: --pose-refinement off cannot map it");
     }
     return false;
   }
@@ -159,7 +160,7 @@ void addRunCommand(CLI::App& app, int& exit_code) {
       "run",
       "Build the Living Map of a recording: mesh.ply, trajectory.txt, config.json, timing.json in --out. "
       "With no PATH it simulates the demo street (artemis sim --preset demo) and maps that");
-  flags->dataset.addTo(*cmd, /*with_poses=*/true);
+  flags->dataset.addTo(*cmd, /*with_poses=*/true, /*poses_none=*/true);
   cmd->add_option("-o,--out", flags->out, "Output folder")->capture_default_str();
   auto& m = flags->params.mapper;
   cmd->add_option("--voxel-size", m.voxels.voxel_size_m, "Voxel size (m)")->capture_default_str();
@@ -185,7 +186,8 @@ void addRunCommand(CLI::App& app, int& exit_code) {
                 "Motion-compensate each sweep from the motion estimate (recordings with sweep start/end "
                 "stamps, such as KITTI raw)");
   auto& r = flags->params.registration;
-  cmd->add_option("--registration-voxel", r.source_voxel_m, "Registration keeps one scan point per cell of this size (m)")
+  cmd->add_option("--registration-voxel", r.source_voxel_m,
+                  "Registration keeps one scan point per cell of this size (m)")
       ->capture_default_str();
   cmd->add_option("--registration-fine-distance", r.icp.min_distance_m,
                   "Correspondence distance of registration's finest stage (m)")

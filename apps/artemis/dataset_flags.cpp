@@ -12,7 +12,8 @@ std::filesystem::path defaultDataDir() {
   return "../shared/data";
 }
 
-void DatasetFlags::addTo(CLI::App& app, bool with_poses) {
+void DatasetFlags::addTo(CLI::App& app, bool with_poses, bool poses_none) {
+  poses_none_ = poses_none;
   app.add_option("path", path,
                  "Recording folder: a KITTI raw drive (or its date folder), a KITTI odometry root or "
                  "sequences/NN folder [default: $ARTEMIS_DATA_DIR/kitti_raw, ARTEMIS_DATA_DIR defaulting "
@@ -30,10 +31,14 @@ void DatasetFlags::addTo(CLI::App& app, bool with_poses) {
   app.add_option("--sequence", sequence, "KITTI odometry: sequence NN to read when PATH is the root")
       ->capture_default_str();
   if (with_poses) {
+    const std::string file_help =
+        "Replace the recording's poses with this file (one T_W_L per recording frame, 12 numbers a line, "
+        "row-major 3x4)";
     app.add_option("--poses", poses,
-                   "Replace the recording's poses with this file (one T_W_L per recording frame, 12 "
-                   "numbers a line, row-major 3x4), or 'none' to ignore them (then poses come from "
-                   "scan-to-map registration alone)");
+                   poses_none ? file_help +
+                                    ", or 'none' to ignore them (then poses come from scan-to-map registration "
+                                    "alone)"
+                              : file_help);
   }
 }
 
@@ -54,6 +59,9 @@ Result<std::unique_ptr<datasets::Dataset>> DatasetFlags::open(bool load_images) 
   const std::filesystem::path where = path.empty() ? defaultDataDir() / "kitti_raw" : std::filesystem::path(path);
   auto dataset = datasets::openDataset(where, *format_id, options);
   if (!dataset) return dataset.status();
+  if (!poses.empty() && poses == "none" && !poses_none_) {
+    return invalidArgument("--poses none: this command needs poses (give a poses file, or leave --poses out)");
+  }
   if (!poses.empty() && poses != "none") {
     auto T_W_L = datasets::readPoseFile(poses);
     if (!T_W_L) return T_W_L.status();

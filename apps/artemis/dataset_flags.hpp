@@ -25,9 +25,13 @@ struct DatasetFlags {
   std::string poses;
 
   // Adds PATH (positional, optional: defaults to $ARTEMIS_DATA_DIR/kitti_raw) and the flags.
-  void addTo(CLI::App& app, bool with_poses);
+  // poses_none: --poses also accepts 'none' (for commands that can find poses themselves).
+  void addTo(CLI::App& app, bool with_poses, bool poses_none = false);
   // Opens the dataset; errors name the folder or file and the problem.
   [[nodiscard]] Result<std::unique_ptr<datasets::Dataset>> open(bool load_images) const;
+
+ private:
+  bool poses_none_ = false;
 };
 
 }  // namespace artemis::cli

@@ -48,8 +48,8 @@ std::string timingJson(const RunReport& report) {
   nlohmann::ordered_json j;
   j["frames"] = report.frames;
   nlohmann::ordered_json stages = nlohmann::ordered_json::object();
-  for (const std::string& stage : {std::string("read"), std::string("register"), std::string("insert"),
-                                   std::string("mesh")}) {
+  for (const std::string& stage :
+       {std::string("read"), std::string("register"), std::string("insert"), std::string("mesh")}) {
     if (report.times.samples(stage).empty()) continue;
     const StageSummary s = report.times.summary(stage);
     stages[stage] = {{"median_ms", s.median_ms}, {"p95_ms", s.p95_ms}, {"max_ms", s.max_ms}};
@@ -100,7 +100,8 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
   mapping::Mapper mapper(params.mapper);
   const bool recording_poses = params.use_recording_poses && dataset.hasPoses();
   if (!params.pose_refinement && !recording_poses) {
-    return invalidArgument("without the recording's poses, pose refinement must be on (it is the only source of poses)");
+    return invalidArgument(
+        "without the recording's poses, pose refinement must be on (it is the only source of poses)");
   }
   std::unique_ptr<registration::Odometry> odometry;
   if (params.pose_refinement) odometry = std::make_unique<registration::Odometry>(params.registration);
@@ -156,10 +157,11 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
           ++report.degenerate_frames;
           log::warn("frame {}: {}", frame->index, reg.reason);
         }
-        log::debug("frame {}: registered in {:.1f} ms, {} iterations, {} correspondences, rms {:.3f} m, "
-                   "correction {:.3f} m {:.3f} deg",
-                   frame->index, reg.ms, reg.icp.iterations, reg.icp.correspondences, reg.icp.rms_m,
-                   reg.correction_m, reg.correction_deg);
+        log::debug(
+            "frame {}: registered in {:.1f} ms, {} iterations, {} correspondences, rms {:.3f} m, "
+            "correction {:.3f} m {:.3f} deg",
+            frame->index, reg.ms, reg.icp.iterations, reg.icp.correspondences, reg.icp.rms_m, reg.correction_m,
+            reg.correction_deg);
         report.registrations.push_back(std::move(reg));
         report.registered_frames.push_back(frame->index);
       }

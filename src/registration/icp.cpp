@@ -41,8 +41,8 @@ struct Match {
 };
 
 // Nearest map surfel of every source point at pose T, within `distance`.
-void findMatches(const std::vector<Eigen::Vector3f>& source_L, const LocalMap& map, const Isometry3d& T,
-                 float distance, std::vector<Match>& matches) {
+void findMatches(const std::vector<Eigen::Vector3f>& source_L, const LocalMap& map, const Isometry3d& T, float distance,
+                 std::vector<Match>& matches) {
   const Eigen::Matrix3f R = T.linear().cast<float>();
   const Eigen::Vector3f t = T.translation().cast<float>();
   matches.resize(source_L.size());
@@ -95,8 +95,8 @@ Normal buildNormalEquations(const std::vector<Eigen::Vector3f>& source_L, const 
 
 }  // namespace
 
-IcpResult alignToMap(const std::vector<Eigen::Vector3f>& source_L, const LocalMap& map,
-                     const Isometry3d& initial_T_W_L, double first_distance_m, const IcpParams& params) {
+IcpResult alignToMap(const std::vector<Eigen::Vector3f>& source_L, const LocalMap& map, const Isometry3d& initial_T_W_L,
+                     double first_distance_m, const IcpParams& params) {
   IcpResult result;
   result.T_W_L = initial_T_W_L;
   if (source_L.empty() || map.empty()) {
@@ -163,8 +163,8 @@ IcpResult alignToMap(const std::vector<Eigen::Vector3f>& source_L, const LocalMa
       next.linear() = Eigen::Quaterniond(next.linear()).normalized().toRotationMatrix();
       T = next;
       moved += v.norm() + params.lever_m * angle;
-      result.converged = v.norm() < tolerance * params.converged_translation_m &&
-                         angle < tolerance * params.converged_rotation_rad;
+      result.converged =
+          v.norm() < tolerance * params.converged_translation_m && angle < tolerance * params.converged_rotation_rad;
       if (result.converged) break;
     }
     if (starved || last_stage) break;

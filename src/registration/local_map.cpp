@@ -15,10 +15,10 @@ namespace artemis::registration {
 LocalMap::LocalMap(const LocalMapParams& params) : params_(params) {
   if (!(params.voxel_size_m > 0.0) || params.subdivisions < 1 || params.subdivisions > 8 ||
       !(params.normal_radius_m > 0.0) || params.min_normal_points < 3 || !(params.max_distance_m > 0.0)) {
-    throw std::invalid_argument("LocalMap: voxel_size_m, normal_radius_m, max_distance_m must be > 0, "
-                                "subdivisions in 1..8 and min_normal_points >= 3 (voxel " +
-                                std::to_string(params.voxel_size_m) + ", subdivisions " +
-                                std::to_string(params.subdivisions) + ")");
+    throw std::invalid_argument(
+        "LocalMap: voxel_size_m, normal_radius_m, max_distance_m must be > 0, "
+        "subdivisions in 1..8 and min_normal_points >= 3 (voxel " +
+        std::to_string(params.voxel_size_m) + ", subdivisions " + std::to_string(params.subdivisions) + ")");
   }
   voxel_ = static_cast<float>(params.voxel_size_m);
   inv_voxel_ = 1.0f / voxel_;

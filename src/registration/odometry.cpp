@@ -18,8 +18,7 @@ struct Odometry::Arena {
   tbb::task_arena arena;
 };
 
-void firstPointPerVoxel(const std::vector<Eigen::Vector3f>& points, double voxel_m,
-                        std::vector<Eigen::Vector3f>& out) {
+void firstPointPerVoxel(const std::vector<Eigen::Vector3f>& points, double voxel_m, std::vector<Eigen::Vector3f>& out) {
   out.clear();
   if (points.empty() || !(voxel_m > 0.0)) return;
   const auto inv = static_cast<float>(1.0 / voxel_m);
@@ -77,8 +76,7 @@ Isometry3d Odometry::predictConstantVelocity(int frames) const {
   return T;
 }
 
-FrameRegistration Odometry::registerScan(const std::vector<Eigen::Vector3f>& points_L,
-                                         const Isometry3d& prior_T_W_L) {
+FrameRegistration Odometry::registerScan(const std::vector<Eigen::Vector3f>& points_L, const Isometry3d& prior_T_W_L) {
   Stopwatch clock;
   FrameRegistration reg;
   reg.prior_T_W_L = prior_T_W_L;
@@ -101,8 +99,8 @@ FrameRegistration Odometry::registerScan(const std::vector<Eigen::Vector3f>& poi
       reg.icp_ms = icp_clock.elapsedMs();
       if (reg.icp.used_prior) {
         reg.fallback = true;
-        reg.reason = fmt::format("{} correspondences, fewer than {}", reg.icp.correspondences,
-                                 params_.icp.min_correspondences);
+        reg.reason =
+            fmt::format("{} correspondences, fewer than {}", reg.icp.correspondences, params_.icp.min_correspondences);
       } else {
         reg.T_W_L = reg.icp.T_W_L;
         if (reg.icp.degenerate_directions > 0) {

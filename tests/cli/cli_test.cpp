@@ -106,5 +106,63 @@ TEST(Cli, ReferencePosesReplaceOxts) {
   EXPECT_NE(ref["path_length_m"].get<double>(), oxts["path_length_m"].get<double>());
 }
 
+TEST(Cli, PoseRefinementFlagsAreChecked) {
+  ARTEMIS_REQUIRE_DATA("kitti_raw");
+  test::TempDir tmp;
+  const auto off =
+      run("run " + rawPath() + " --frames 0:2 --poses none --pose-refinement off --out " + (tmp / "out").string());
+  EXPECT_EQ(off.exit_code, 1);
+  EXPECT_NE(off.err.find("--poses none needs --pose-refinement on"), std::string::npos) << off.err;
+  const auto bad = run("run " + rawPath() + " --frames 0:2 --pose-refinement maybe --out " + (tmp / "out").string());
+  EXPECT_NE(bad.exit_code, 0);
+  const auto cloud =
+      run("dataset export-cloud " + rawPath() + " --frames 0:2 --poses none -o " + (tmp / "cloud.ply").string());
+  EXPECT_EQ(cloud.exit_code, 1);
+  EXPECT_NE(cloud.err.find("needs poses"), std::string::npos) << cloud.err;
+}
+
+// artemis run on the drive's first frames refines the OXTS poses by default, and writes what it did.
+TEST(Cli, RunRefinesGpsPosesByDefault) {
+  ARTEMIS_REQUIRE_DATA("kitti_raw");
+  test::TempDir tmp;
+  const auto r = run("run " + rawPath() + " --frames 0:5 --out " + (tmp / "out").string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("pose refinement: 5 frames registered"), std::string::npos) << r.out;
+  std::ifstream config(tmp / "out" / "config.json");
+  const auto j = nlohmann::json::parse(config);
+  EXPECT_EQ(j["registration"]["pose_refinement"], true);
+  EXPECT_TRUE(std::filesystem::exists(tmp / "out" / "registration.json"));
+  // The refined trajectory against the OXTS one: they differ, but by centimetres.
+  const auto oxts = run("run " + rawPath() + " --frames 0:5 --pose-refinement off --out " + (tmp / "oxts").string());
+  ASSERT_EQ(oxts.exit_code, 0) << oxts.err;
+  const auto e = run("eval trajectory " + (tmp / "out" / "trajectory.txt").string() + " --ref " +
+                     (tmp / "oxts" / "trajectory.txt").string() + " --window 1 4 --json " + (tmp / "t.json").string());
+  ASSERT_EQ(e.exit_code, 0) << e.err;
+  EXPECT_NE(e.out.find("relative pose error"), std::string::npos) << e.out;
+  std::ifstream tj(tmp / "t.json");
+  const auto t = nlohmann::json::parse(tj);
+  ASSERT_EQ(t["relative_pose_error"].size(), 2u);
+  EXPECT_EQ(t["relative_pose_error"][1]["window"], 4);
+  const double rmse = t["relative_pose_error"][1]["translation_m"]["rmse"].get<double>();
+  EXPECT_GT(rmse, 0.005);
+  EXPECT_LT(rmse, 0.5);
+}
+
+TEST(Cli, EvalTrajectoryErrorsNameTheFile) {
+  test::TempDir tmp;
+  std::ofstream(tmp / "a.txt") << "1 0 0 0 0 1 0 0 0 0 1 0\n1 0 0 1 0 1 0 0 0 0 1 0\n";
+  std::ofstream(tmp / "b.txt") << "1 0 0 0 0 1 0 0 0 0 1 0\n";
+  const auto differ = run("eval trajectory " + (tmp / "a.txt").string() + " --ref " + (tmp / "b.txt").string());
+  EXPECT_EQ(differ.exit_code, 1);
+  EXPECT_NE(differ.err.find("differ in length"), std::string::npos) << differ.err;
+  const auto missing = run("eval trajectory " + (tmp / "none.txt").string() + " --ref " + (tmp / "b.txt").string());
+  EXPECT_EQ(missing.exit_code, 1);
+  EXPECT_NE(missing.err.find("none.txt"), std::string::npos) << missing.err;
+  const auto same =
+      run("eval trajectory " + (tmp / "a.txt").string() + " --ref " + (tmp / "a.txt").string() + " --window 1");
+  ASSERT_EQ(same.exit_code, 0) << same.err;
+  EXPECT_NE(same.out.find("drift: 0.000 m"), std::string::npos) << same.out;
+}
+
 }  // namespace
 }  // namespace artemis

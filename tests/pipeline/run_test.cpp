@@ -108,5 +108,70 @@ TEST(RunPipeline, DamagedScanIsSkippedAndCounted) {
   EXPECT_EQ(timing["frames_failed"], 1);
 }
 
+// The simulated recording's poses withheld: registration alone must find them.
+TEST(RunPipeline, RefinementWithoutPosesRecoversTheTrajectory) {
+  auto dataset = datasets::openDataset(recording(), datasets::DatasetFormat::kAuto, noImages());
+  ASSERT_TRUE(dataset);
+  pipeline::RunParams params;
+  params.pose_refinement = true;
+  params.use_recording_poses = false;
+  test::TempDir out;
+  auto report = pipeline::runPipeline(**dataset, params, out.path(), "{}\n");
+  ASSERT_TRUE(report) << report.status().toString();
+  EXPECT_EQ(report->registration_fallbacks, 0u);
+  auto trajectory = datasets::readPoseFile(out / "trajectory.txt");
+  ASSERT_TRUE(trajectory) << trajectory.status().toString();
+  ASSERT_EQ(trajectory->size(), 4u);
+  const Isometry3d first = (*dataset)->pose(0).inverse();
+  for (std::size_t k = 1; k < 4; ++k) {
+    const Isometry3d truth = first * (*dataset)->pose(k);
+    const Isometry3d error = truth.inverse() * (*trajectory)[k];
+    EXPECT_GT(truth.translation().norm(), 0.5 * static_cast<double>(k));  // the sensor did move
+    EXPECT_LT(error.translation().norm(), 0.03) << "frame " << k;
+    EXPECT_LT(rotationAngleDeg(error), 0.1) << "frame " << k;
+  }
+  const auto registration = nlohmann::json::parse(read(out / "registration.json"));
+  ASSERT_EQ(registration["frames"].size(), 4u);
+  EXPECT_EQ(registration["frames"][0]["reason"], "first scan: it starts the map");
+  EXPECT_GT(registration["frames"][1]["correspondences"].get<int>(), 100);
+  const auto timing = nlohmann::json::parse(read(out / "timing.json"));
+  EXPECT_TRUE(timing["stages"].contains("register"));
+}
+
+TEST(RunPipeline, WithoutPosesRefinementMustBeOn) {
+  auto dataset = datasets::openDataset(recording(), datasets::DatasetFormat::kAuto, noImages());
+  ASSERT_TRUE(dataset);
+  pipeline::RunParams params;
+  params.use_recording_poses = false;
+  test::TempDir out;
+  auto report = pipeline::runPipeline(**dataset, params, out.path(), "{}\n");
+  ASSERT_FALSE(report);
+  EXPECT_NE(report.status().message().find("pose refinement must be on"), std::string::npos);
+}
+
+TEST(RunPipeline, DamagedScanWithRefinementKeepsOneLinePerFrame) {
+  test::TempDir copy;
+  fs::copy(recording(), copy.path(), fs::copy_options::recursive);
+  const fs::path scan = copy / "sequences" / "00" / "velodyne" / "000001.bin";
+  fs::resize_file(scan, fs::file_size(scan) - 7);
+  auto dataset = datasets::openDataset(copy.path(), datasets::DatasetFormat::kAuto, noImages());
+  ASSERT_TRUE(dataset);
+  pipeline::RunParams params;
+  params.pose_refinement = true;
+  test::TempDir out;
+  auto report = pipeline::runPipeline(**dataset, params, out.path(), "{}\n");
+  ASSERT_TRUE(report) << report.status().toString();
+  EXPECT_EQ(report->frames, 3u);
+  EXPECT_EQ(report->frames_failed, 1u);
+  auto trajectory = datasets::readPoseFile(out / "trajectory.txt");
+  ASSERT_TRUE(trajectory);
+  ASSERT_EQ(trajectory->size(), 4u);
+  // The recording's poses are exact here: refinement must agree with them, across the gap too.
+  for (std::size_t k = 0; k < 4; ++k) {
+    const Isometry3d error = (*dataset)->pose(k).inverse() * (*trajectory)[k];
+    EXPECT_LT(error.translation().norm(), 0.03) << "frame " << k;
+  }
+}
+
 }  // namespace
 }  // namespace artemis

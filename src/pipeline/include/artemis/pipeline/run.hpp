@@ -43,9 +43,9 @@ struct RunReport {
   double finish_ms = 0.0;
   double peak_rss_mb = 0.0;
   std::vector<registration::FrameRegistration> registrations;  // one per mapped frame, with refinement
-  std::vector<std::size_t> registered_frames;                   // their recording indices
-  std::size_t registration_fallbacks = 0;  // frames whose prior pose was kept
-  std::size_t degenerate_frames = 0;       // frames registered with a degenerate direction
+  std::vector<std::size_t> registered_frames;                  // their recording indices
+  std::size_t registration_fallbacks = 0;                      // frames whose prior pose was kept
+  std::size_t degenerate_frames = 0;                           // frames registered with a degenerate direction
 };
 
 using ProgressFn = std::function<void(std::size_t done, std::size_t total)>;

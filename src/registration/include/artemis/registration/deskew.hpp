@@ -25,8 +25,9 @@ struct SweepTiming {
 double sweepFraction(const Eigen::Vector3f& p);
 
 // `motion` = T_Lprev_Lcur, the sensor's motion over `period_s` seconds (the frame before to this
-// one). A point seen at time tau is moved by the motion from tau to the stamp, interpolated
-// linearly in translation and in rotation angle. Does nothing unless timing.known() and period_s > 0.
+// one), taken as a constant twist (screw motion, as a car's at constant speed and turn rate). A
+// point seen at time tau is moved by the motion between tau and the stamp. Does nothing unless timing.known() and
+// period_s > 0.
 void deskewScan(std::vector<Eigen::Vector3f>& points_L, const Isometry3d& motion, double period_s,
                 const SweepTiming& timing);
 

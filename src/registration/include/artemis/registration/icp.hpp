@@ -34,8 +34,8 @@ struct IcpParams {
   double min_kernel_m = 0.05;
   int max_iterations = 30;  // per stage
   // A stage ends when a step moves less than this (coarse stages: ten times more).
-  double converged_translation_m = 2e-4;
-  double converged_rotation_rad = 2e-5;
+  double converged_translation_m = 5e-4;
+  double converged_rotation_rad = 5e-5;
   // Correspondences are searched again once the pose moved this much (translation plus rotation
   // times lever_m) since the last search; in between, Gauss-Newton steps reuse them.
   double research_motion_m = 0.01;
@@ -57,9 +57,9 @@ struct IcpResult {
 
 // Aligns `source_L` (LiDAR frame) to `map`, starting from `initial_T_W_L`, with the first stage's
 // correspondence distance `first_distance_m`. When a stage finds fewer than min_correspondences,
-// the result of the stages before it stands (the prior, if there were none). Runs on the calling TBB arena; results do not depend
-// on the thread count (fixed chunks, summed in order).
-IcpResult alignToMap(const std::vector<Eigen::Vector3f>& source_L, const LocalMap& map,
-                     const Isometry3d& initial_T_W_L, double first_distance_m, const IcpParams& params);
+// the result of the stages before it stands (the prior, if there were none). Runs on the calling TBB arena; results do
+// not depend on the thread count (fixed chunks, summed in order).
+IcpResult alignToMap(const std::vector<Eigen::Vector3f>& source_L, const LocalMap& map, const Isometry3d& initial_T_W_L,
+                     double first_distance_m, const IcpParams& params);
 
 }  // namespace artemis::registration

@@ -25,7 +25,7 @@ struct LocalMapParams {
   // to one voxel visits at most the 27 voxels around it, and the box test usually leaves one or two.
   double voxel_size_m = 1.0;
   int subdivisions = 4;           // 1..8
-  double normal_radius_m = 0.6;   // neighbourhood of a normal estimate
+  double normal_radius_m = 0.5;   // neighbourhood of a normal estimate
   int min_normal_points = 6;      // fewer neighbours: no normal (yet)
   double max_flatness = 0.3;      // smallest / middle eigenvalue of a plane's covariance must stay below
   double max_distance_m = 100.0;  // voxels farther from the sensor are dropped
@@ -67,13 +67,13 @@ class LocalMap {
     Eigen::Vector3f normal;
   };
   struct Voxel {
-    std::vector<Eigen::Vector3f> points;     // every kept point
-    std::vector<std::uint8_t> has_normal;    // per point
-    std::vector<Surfel> surfels;             // the points with a valid normal: what nearest() searches
+    std::vector<Eigen::Vector3f> points;   // every kept point
+    std::vector<std::uint8_t> has_normal;  // per point
+    std::vector<Surfel> surfels;           // the points with a valid normal: what nearest() searches
     std::array<std::uint64_t, 8> occupied{};
-    std::uint32_t touched = 0;           // the insert() that last added a point here
-    std::uint32_t points_at_retry = 0;   // points.size() when normals were last retried
-    std::uint32_t points_before = 0;     // points.size() before the current insert()
+    std::uint32_t touched = 0;          // the insert() that last added a point here
+    std::uint32_t points_at_retry = 0;  // points.size() when normals were last retried
+    std::uint32_t points_before = 0;    // points.size() before the current insert()
   };
 
   [[nodiscard]] Key keyOf(const Eigen::Vector3f& p) const;

@@ -90,7 +90,6 @@ class Odometry {
 
 // One point per voxel of `voxel_m`: the first of each voxel in the order given, order kept.
 // Non-finite points are dropped.
-void firstPointPerVoxel(const std::vector<Eigen::Vector3f>& points, double voxel_m,
-                        std::vector<Eigen::Vector3f>& out);
+void firstPointPerVoxel(const std::vector<Eigen::Vector3f>& points, double voxel_m, std::vector<Eigen::Vector3f>& out);
 
 }  // namespace artemis::registration

@@ -1,0 +1,80 @@
+#include "artemis/registration/deskew.hpp"
+
+#include <gtest/gtest.h>
+
+#include <Eigen/Geometry>
+#include <cmath>
+
+#include "scenes.hpp"
+
+namespace artemis::registration {
+namespace {
+
+TEST(Deskew, SweepRunsClockwiseFromBehind) {
+  EXPECT_NEAR(sweepFraction({-1.0f, 1e-6f, 0.0f}), 0.0, 1e-5);  // just left of straight behind
+  EXPECT_NEAR(sweepFraction({0.0f, 1.0f, 0.0f}), 0.25, 1e-6);   // left
+  EXPECT_NEAR(sweepFraction({1.0f, 0.0f, 0.0f}), 0.5, 1e-6);    // ahead: the stamp
+  EXPECT_NEAR(sweepFraction({0.0f, -1.0f, 0.0f}), 0.75, 1e-6);  // right
+  EXPECT_NEAR(sweepFraction({-1.0f, -1e-6f, 0.0f}), 1.0, 1e-5);
+}
+
+// The sensor drives at 10 m/s and turns at 0.3 rad/s (a constant twist in its own frame) during a
+// 0.1 s sweep; each point is seen from where the sensor was when the beam swept over it. Deskewing with that motion
+// must give the scan as seen from the pose at the stamp.
+TEST(Deskew, UndoesAConstantMotion) {
+  const double period = 0.1;
+  const auto poseAt = [](double t) {  // T_W_L(t), stamp at t = 0.05: a circle of radius 10 / 0.3
+    const double radius = 10.0 / 0.3;
+    const double heading = 0.3 * t;
+    Isometry3d T = Isometry3d::Identity();
+    T.linear() = Eigen::AngleAxisd(heading, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    T.translation() = Eigen::Vector3d(radius * std::sin(heading), radius * (1.0 - std::cos(heading)), 1.7);
+    return T;
+  };
+  const SweepTiming timing{0.05, 0.0, 0.1};
+  std::vector<Eigen::Vector3f> skewed, truth;
+  for (const Eigen::Vector3f& p_W : test::streetCorner(1)) {
+    // The time the beam reached the point: a fixed point of azimuth -> time.
+    double t = timing.stamp_s;
+    double step = 1.0;
+    Eigen::Vector3f p_L;
+    for (int k = 0; k < 20; ++k) {
+      p_L = (poseAt(t).inverse().cast<float>() * p_W);
+      const double next = timing.start_s + sweepFraction(p_L) * (timing.end_s - timing.start_s);
+      step = std::abs(next - t);
+      t = next;
+    }
+    const double s = sweepFraction(p_L);
+    // Skip the seam behind, where start and end meet, points near the sensor, whose azimuth swings
+    // too fast for the fixed point to settle, and any that did not settle.
+    if (s < 0.02 || s > 0.98 || p_L.head<2>().norm() < 3.0f || step > 1e-6) continue;
+    skewed.push_back(p_L);
+    truth.push_back(poseAt(timing.stamp_s).inverse().cast<float>() * p_W);
+  }
+  ASSERT_GT(skewed.size(), 10000u);
+  const Isometry3d motion = poseAt(timing.stamp_s - period).inverse() * poseAt(timing.stamp_s);
+  double before = 0.0;
+  double after = 0.0;
+  std::vector<Eigen::Vector3f> deskewed = skewed;
+  deskewScan(deskewed, motion, period, timing);
+  for (std::size_t i = 0; i < skewed.size(); ++i) {
+    before = std::max(before, static_cast<double>((skewed[i] - truth[i]).norm()));
+    after = std::max(after, static_cast<double>((deskewed[i] - truth[i]).norm()));
+  }
+  EXPECT_GT(before, 0.4);  // half a sweep at 10 m/s
+  EXPECT_LT(after, 0.005);
+}
+
+TEST(Deskew, DoesNothingWithoutSweepStamps) {
+  std::vector<Eigen::Vector3f> points{{1, 2, 3}, {-4, 5, 6}};
+  const auto before = points;
+  Isometry3d motion = Isometry3d::Identity();
+  motion.translation() = Eigen::Vector3d(1, 0, 0);
+  deskewScan(points, motion, 0.1, {1.0, 1.0, 1.0});
+  EXPECT_EQ(points, before);
+  deskewScan(points, motion, 0.0, {1.0, 0.95, 1.05});
+  EXPECT_EQ(points, before);
+}
+
+}  // namespace
+}  // namespace artemis::registration
