@@ -191,7 +191,8 @@ void addRunCommand(CLI::App& app, int& exit_code) {
       ->capture_default_str();
   cmd->add_option("--registration-fine-distance", r.icp.min_distance_m,
                   "Correspondence distance of registration's finest stage (m)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
   cmd->callback([flags, &exit_code] { exit_code = runRun(*flags); });
 }
 

@@ -43,8 +43,10 @@ Status checkSizes(const std::vector<Isometry3d>& estimate, const std::vector<Iso
 
 Result<RelativePoseError> relativePoseError(const std::vector<Isometry3d>& estimate,
                                             const std::vector<Isometry3d>& reference, std::size_t window) {
-  if (window == 0) return invalidArgument("the window must be at least one frame");
-  if (Status s = checkSizes(estimate, reference, window + 1); !s.isOk()) return s;
+  if (Status s = checkSizes(estimate, reference, 0); !s.isOk()) return s;
+  if (window == 0 || window >= estimate.size()) {
+    return invalidArgument(fmt::format("a window of {} frames needs more than {} poses", window, estimate.size()));
+  }
   std::vector<double> translation;
   std::vector<double> rotation;
   for (std::size_t i = 0; i + window < estimate.size(); ++i) {

@@ -5,6 +5,7 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <stdexcept>
 #include <string>
 
 #include "artemis/core/log.hpp"
@@ -104,8 +105,15 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
         "without the recording's poses, pose refinement must be on (it is the only source of poses)");
   }
   std::unique_ptr<registration::Odometry> odometry;
-  if (params.pose_refinement) odometry = std::make_unique<registration::Odometry>(params.registration);
+  if (params.pose_refinement) {
+    try {
+      odometry = std::make_unique<registration::Odometry>(params.registration);
+    } catch (const std::invalid_argument& e) {
+      return invalidArgument(e.what());
+    }
+  }
   bool warned_no_sweep = false;
+  std::size_t not_deskewed = 0;
 
   std::string trajectory;
   std::optional<Isometry3d> last_T;  // pose of the last mapped frame
@@ -140,15 +148,20 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
       if (params.deskew && last_T) {
         const registration::SweepTiming timing{frame->stamp_s, frame->scan_start_s, frame->scan_end_s};
         if (timing.known()) {
-          registration::deskewScan(frame->points_L.points, last_T->inverse() * prior, frame->stamp_s - last_stamp_s,
-                                   timing);
+          // Motion and period both span the frames since the last mapped one.
+          if (!registration::deskewScan(frame->points_L.points, last_T->inverse() * prior,
+                                        frame->stamp_s - last_stamp_s, timing)) {
+            ++not_deskewed;
+            log::warn("frame {}: not deskewed: {:.3f} s since the last frame against a {:.3f} s sweep", frame->index,
+                      frame->stamp_s - last_stamp_s, timing.end_s - timing.start_s);
+          }
         } else if (!warned_no_sweep) {
           log::warn("{}: no sweep start/end stamps, so scans are not deskewed", dataset.root().string());
           warned_no_sweep = true;
         }
       }
       if (odometry) {
-        auto reg = odometry->registerScan(frame->points_L.points, prior);
+        auto reg = odometry->registerScan(frame->points_L.points, prior, last_T ? static_cast<int>(i - last_i) : 1);
         T_W_L = reg.T_W_L;
         if (reg.fallback) {
           ++report.registration_fallbacks;
@@ -189,6 +202,11 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
   if (const std::size_t refused = mapper.voxels().rejectedPoints(); refused > 0) {
     log::warn("{} points more than 1000 km from the origin were refused (broken poses?)", refused);
   }
+  if (odometry && odometry->map().rejectedPoints() > 0) {
+    log::warn("registration: {} points more than 1000 km from the origin were left out of its map (broken poses?)",
+              odometry->map().rejectedPoints());
+  }
+  if (not_deskewed > 0) log::warn("{} frames were not deskewed (see above)", not_deskewed);
   report.vertices = mapper.mesh().vertexCount();
   report.faces = mapper.mesh().faceCount();
   if (Status s = writeMeshPly(mapper.mesh(), out / "mesh.ply"); !s.isOk()) return s;

@@ -16,14 +16,14 @@ using Vector6d = Eigen::Matrix<double, 6, 1>;
 using Matrix6d = Eigen::Matrix<double, 6, 6>;
 
 struct Normal {
-  Matrix6d H = Matrix6d::Zero();
+  Matrix6d hessian = Matrix6d::Zero();
   Vector6d g = Vector6d::Zero();
   double weighted_sq = 0.0;
   double weight = 0.0;
   std::size_t count = 0;
 
   Normal& operator+=(const Normal& o) {
-    H += o.H;
+    hessian += o.hessian;
     g += o.g;
     weighted_sq += o.weighted_sq;
     weight += o.weight;
@@ -75,13 +75,13 @@ Normal buildNormalEquations(const std::vector<Eigen::Vector3f>& source_L, const 
       const Eigen::Vector3d n = matches[i].normal.cast<double>();
       const Eigen::Vector3d arm = R * source_L[i].cast<double>();  // p_W - c
       const double r = n.dot(arm + c - matches[i].point.cast<double>());
-      Vector6d J;
-      J.head<3>() = arm.cross(n);
-      J.tail<3>() = n;
+      Vector6d jacobian;
+      jacobian.head<3>() = arm.cross(n);
+      jacobian.tail<3>() = n;
       const double denom = s2 + r * r;
       const double w = s2 * s2 / (denom * denom);  // Geman-McClure, 1 at r = 0
-      out.H.selfadjointView<Eigen::Upper>().rankUpdate(J, w);
-      out.g += w * r * J;
+      out.hessian.selfadjointView<Eigen::Upper>().rankUpdate(jacobian, w);
+      out.g += w * r * jacobian;
       out.weighted_sq += w * r * r;
       out.weight += w;
       ++out.count;
@@ -89,7 +89,7 @@ Normal buildNormalEquations(const std::vector<Eigen::Vector3f>& source_L, const 
   });
   Normal total;
   for (const Normal& part : chunks) total += part;
-  total.H = total.H.selfadjointView<Eigen::Upper>();
+  total.hessian = total.hessian.selfadjointView<Eigen::Upper>();
   return total;
 }
 
@@ -112,6 +112,7 @@ IcpResult alignToMap(const std::vector<Eigen::Vector3f>& source_L, const LocalMa
   bool solved = false;  // at least one Gauss-Newton step was taken
   const double first = std::max(first_distance_m, params.min_distance_m);
   for (int stage = 0;; ++stage) {
+    const Isometry3d stage_start = T;
     const double distance = std::max(first / std::pow(2.0, stage), params.min_distance_m);
     const bool last_stage = distance <= params.min_distance_m;
     const double kernel = std::max(distance * params.kernel_ratio, params.min_kernel_m);
@@ -125,18 +126,22 @@ IcpResult alignToMap(const std::vector<Eigen::Vector3f>& source_L, const LocalMa
       }
       const Normal eq = buildNormalEquations(source_L, matches, T, kernel, chunks);
       ++result.iterations;
-      result.correspondences = eq.count;
-      result.rms_m = eq.weight > 0.0 ? std::sqrt(eq.weighted_sq / eq.weight) : 0.0;
       if (eq.count < static_cast<std::size_t>(params.min_correspondences)) {
-        starved = true;  // a finer stage would find even fewer: keep what the coarser ones gave
+        if (!solved) result.correspondences = eq.count;  // for the caller's log
+        // The stage lost its matches (a finer one would find even fewer): what the stages before
+        // it gave stands.
+        starved = true;
+        T = stage_start;
         break;
       }
       solved = true;
+      result.correspondences = eq.count;
+      result.rms_m = eq.weight > 0.0 ? std::sqrt(eq.weighted_sq / eq.weight) : 0.0;
       // Solve in scaled units, only along well-constrained eigen-directions.
-      const Matrix6d Hs = scale.asDiagonal() * eq.H * scale.asDiagonal();
+      const Matrix6d hessian_scaled = scale.asDiagonal() * eq.hessian * scale.asDiagonal();
       const Vector6d gs = scale.asDiagonal() * eq.g;
-      Eigen::SelfAdjointEigenSolver<Matrix6d> eig(Hs);
-      const Vector6d lambda = eig.eigenvalues();
+      Eigen::SelfAdjointEigenSolver<Matrix6d> eig(hessian_scaled);
+      const Vector6d& lambda = eig.eigenvalues();
       const double floor = params.degenerate_eigen_ratio * lambda.maxCoeff();
       Vector6d step_s = Vector6d::Zero();
       int degenerate = 0;
@@ -154,10 +159,10 @@ IcpResult alignToMap(const std::vector<Eigen::Vector3f>& source_L, const LocalMa
       const Eigen::Vector3d v = step.tail<3>();
       // p' = Exp(w) (p - c) + c + v: rotation about the sensor, then translation.
       const double angle = w.norm();
-      const Eigen::Matrix3d dR =
+      const Eigen::Matrix3d delta_rotation =
           angle > 0.0 ? Eigen::AngleAxisd(angle, w / angle).toRotationMatrix() : Eigen::Matrix3d::Identity();
       Isometry3d next = Isometry3d::Identity();
-      next.linear() = dR * T.linear();
+      next.linear() = delta_rotation * T.linear();
       next.translation() = T.translation() + v;
       // Re-orthonormalise against drift over many small products.
       next.linear() = Eigen::Quaterniond(next.linear()).normalized().toRotationMatrix();

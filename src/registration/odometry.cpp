@@ -8,8 +8,10 @@
 #include <algorithm>
 #include <bit>
 #include <cmath>
+#include <stdexcept>
 
 #include "artemis/core/timer.hpp"
+#include "se3.hpp"
 
 namespace artemis::registration {
 
@@ -24,25 +26,23 @@ void firstPointPerVoxel(const std::vector<Eigen::Vector3f>& points, double voxel
   const auto inv = static_cast<float>(1.0 / voxel_m);
   constexpr std::int64_t kBias = std::int64_t{1} << 20;  // 21 bits an axis
   // Keys in parallel (0: point dropped), then one ordered pass over a hash set.
-  thread_local std::vector<std::uint64_t> scratch;
-  std::vector<std::uint64_t>& keys = scratch;  // this thread's, also inside the workers
-  keys.resize(points.size());
+  std::vector<std::uint64_t> keys(points.size());
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points.size(), 8192), [&](const auto& range) {
     for (std::size_t i = range.begin(); i < range.end(); ++i) {
       const Eigen::Vector3f& p = points[i];
       keys[i] = 0;
-      if (!p.allFinite()) continue;
-      const auto k = [&](float c) { return static_cast<std::int64_t>(std::floor(c * inv)) + kBias; };
-      const std::int64_t kx = k(p.x());
-      const std::int64_t ky = k(p.y());
-      const std::int64_t kz = k(p.z());
-      if (std::min({kx, ky, kz}) < 0 || std::max({kx, ky, kz}) >= 2 * kBias) continue;
+      const Eigen::Vector3f scaled = p * inv;
+      // Range-checked before the cast to integers (which would be undefined beyond int64).
+      if (!scaled.allFinite() || !(scaled.cwiseAbs().maxCoeff() < static_cast<float>(kBias - 1))) continue;
+      const auto k = [&](float c) { return static_cast<std::int64_t>(std::floor(c)) + kBias; };
+      const std::int64_t kx = k(scaled.x());
+      const std::int64_t ky = k(scaled.y());
+      const std::int64_t kz = k(scaled.z());
       keys[i] = (static_cast<std::uint64_t>(kx) << 42) | (static_cast<std::uint64_t>(ky) << 21) |
                 static_cast<std::uint64_t>(kz) | (std::uint64_t{1} << 63);  // never 0
     }
   });
-  thread_local std::vector<std::uint64_t> table;
-  table.assign(std::bit_ceil(2 * points.size() + 16), 0);
+  std::vector<std::uint64_t> table(std::bit_ceil(2 * points.size() + 16), 0);
   const std::size_t mask = table.size() - 1;
   std::uint64_t last = 0;
   for (std::size_t i = 0; i < points.size(); ++i) {
@@ -59,8 +59,26 @@ void firstPointPerVoxel(const std::vector<Eigen::Vector3f>& points, double voxel
   }
 }
 
+namespace {
+
+const OdometryParams& checked(const OdometryParams& p) {
+  const auto positive = [](double v) { return v > 0.0 && std::isfinite(v); };
+  if (!positive(p.source_voxel_m) || !positive(p.initial_distance_m) || !positive(p.min_distance_m) ||
+      !positive(p.max_distance_m) || p.min_distance_m > p.max_distance_m || !positive(p.icp.min_distance_m) ||
+      !positive(p.icp.kernel_ratio) || !positive(p.icp.min_kernel_m) || p.icp.max_iterations < 1 ||
+      !positive(p.icp.lever_m) || !(p.min_motion_m >= 0.0) || !positive(p.max_range_m)) {
+    throw std::invalid_argument(fmt::format(
+        "registration settings: voxel, distances, kernel and lever must be positive and finite, min distance at "
+        "most max distance (source voxel {} m, distances {}..{} m, fine distance {} m)",
+        p.source_voxel_m, p.min_distance_m, p.max_distance_m, p.icp.min_distance_m));
+  }
+  return p;
+}
+
+}  // namespace
+
 Odometry::Odometry(const OdometryParams& params)
-    : params_(params), map_(params.map), arena_(std::make_unique<Arena>(params.threads)) {}
+    : params_(checked(params)), map_(params.map), arena_(std::make_unique<Arena>(params.threads)) {}
 
 Odometry::~Odometry() = default;
 
@@ -71,12 +89,11 @@ double Odometry::adaptiveDistance() const {
 }
 
 Isometry3d Odometry::predictConstantVelocity(int frames) const {
-  Isometry3d T = last_.value_or(Isometry3d::Identity());
-  for (int i = 0; i < frames; ++i) T = T * velocity_;
-  return T;
+  return last_.value_or(Isometry3d::Identity()) * se3::exp(static_cast<double>(frames) * velocity_);
 }
 
-FrameRegistration Odometry::registerScan(const std::vector<Eigen::Vector3f>& points_L, const Isometry3d& prior_T_W_L) {
+FrameRegistration Odometry::registerScan(const std::vector<Eigen::Vector3f>& points_L, const Isometry3d& prior_T_W_L,
+                                         int frames_since_last) {
   Stopwatch clock;
   FrameRegistration reg;
   reg.prior_T_W_L = prior_T_W_L;
@@ -87,6 +104,11 @@ FrameRegistration Odometry::registerScan(const std::vector<Eigen::Vector3f>& poi
     firstPointPerVoxel(points_L, spacing, map_candidates_);
     firstPointPerVoxel(map_candidates_, params_.source_voxel_m, source_);
     reg.source_points = source_.size();
+    if (!prior_T_W_L.matrix().allFinite()) {
+      reg.fallback = true;
+      reg.reason = "the prior pose is not finite";
+      return;  // nothing to anchor the scan with: the map is left alone
+    }
     if (!last_) {
       reg.reason = "first scan: it starts the map";
     } else if (source_.empty()) {
@@ -120,7 +142,8 @@ FrameRegistration Odometry::registerScan(const std::vector<Eigen::Vector3f>& poi
         error_sq_sum_ += error * error;
         ++error_samples_;
       }
-      velocity_ = last_->inverse() * reg.T_W_L;
+      // Per frame, whatever the gap since the last registered scan.
+      velocity_ = se3::log(last_->inverse() * reg.T_W_L) / static_cast<double>(std::max(1, frames_since_last));
     }
     last_ = reg.T_W_L;
     Stopwatch map_clock;

@@ -65,15 +65,18 @@ TEST(Deskew, UndoesAConstantMotion) {
   EXPECT_LT(after, 0.005);
 }
 
-TEST(Deskew, DoesNothingWithoutSweepStamps) {
+TEST(Deskew, DoesNothingWithoutSweepStampsOrWithAnOddPeriod) {
   std::vector<Eigen::Vector3f> points{{1, 2, 3}, {-4, 5, 6}};
   const auto before = points;
   Isometry3d motion = Isometry3d::Identity();
   motion.translation() = Eigen::Vector3d(1, 0, 0);
-  deskewScan(points, motion, 0.1, {1.0, 1.0, 1.0});
+  EXPECT_FALSE(deskewScan(points, motion, 0.1, {1.0, 1.0, 1.0}));      // no sweep stamps
+  EXPECT_FALSE(deskewScan(points, motion, 0.0, {1.0, 0.95, 1.05}));    // no time between frames
+  EXPECT_FALSE(deskewScan(points, motion, 0.001, {1.0, 0.95, 1.05}));  // glitched stamps
+  EXPECT_FALSE(deskewScan(points, motion, 1.0, {1.0, 0.95, 1.05}));    // a long gap
   EXPECT_EQ(points, before);
-  deskewScan(points, motion, 0.0, {1.0, 0.95, 1.05});
-  EXPECT_EQ(points, before);
+  EXPECT_TRUE(deskewScan(points, motion, 0.1, {1.0, 0.95, 1.05}));
+  EXPECT_NE(points, before);
 }
 
 }  // namespace

@@ -100,6 +100,77 @@ TEST(Odometry, TracksADriveWithoutPoses) {
   }
 }
 
+// A scan of the corner scene from T_W_L, limited to 25 m (another sampling of the surfaces each time).
+std::vector<Eigen::Vector3f> cornerScan(const Isometry3d& T_W_L, std::uint32_t seed) {
+  std::vector<Eigen::Vector3f> scan;
+  for (const auto& p : test::transformed(test::streetCorner(seed), T_W_L.inverse())) {
+    if (p.norm() < 25.0f) scan.push_back(p);
+  }
+  return scan;
+}
+
+// Frame 3 is lost: the constant-velocity model must stay per frame across the gap.
+TEST(Odometry, ConstantVelocityStaysPerFrameAcrossAGap) {
+  Odometry odometry(OdometryParams{});
+  const Isometry3d step = pose(1.0, 0.0, 0.0, 0.5);
+  Isometry3d truth = Isometry3d::Identity();
+  std::vector<Isometry3d> truths;
+  for (int k = 0; k < 7; ++k) {
+    truths.push_back(truth);
+    truth = truth * step;
+  }
+  int last = -1;
+  for (const int k : {0, 1, 2, 4, 5, 6}) {
+    const Isometry3d prior = last < 0 ? Isometry3d::Identity() : odometry.predictConstantVelocity(k - last);
+    if (k >= 2) {  // from frame 2 on the model knows the motion: its guess is already close
+      const Isometry3d guess_error = truths[static_cast<std::size_t>(k)].inverse() * prior;
+      EXPECT_LT(guess_error.translation().norm(), 0.05) << "frame " << k;
+    }
+    const auto reg =
+        odometry.registerScan(cornerScan(truths[static_cast<std::size_t>(k)], 200 + static_cast<std::uint32_t>(k)),
+                              prior, last < 0 ? 1 : k - last);
+    EXPECT_FALSE(reg.fallback) << reg.reason;
+    EXPECT_LT((truths[static_cast<std::size_t>(k)].inverse() * reg.T_W_L).translation().norm(), 0.01) << "frame " << k;
+    last = k;
+  }
+}
+
+TEST(Odometry, SamePosesOnOneThreadAndOnTwo) {
+  std::vector<Isometry3d> poses[2];
+  for (const int threads : {1, 2}) {
+    OdometryParams params;
+    params.threads = threads;
+    Odometry odometry(params);
+    Isometry3d truth = Isometry3d::Identity();
+    for (int k = 0; k < 4; ++k) {
+      const Isometry3d prior = k == 0 ? Isometry3d::Identity() : odometry.predictConstantVelocity();
+      poses[threads - 1].push_back(
+          odometry.registerScan(cornerScan(truth, 300 + static_cast<std::uint32_t>(k)), prior).T_W_L);
+      truth = truth * pose(0.8, 0.1, 0.0, 1.0);
+    }
+  }
+  for (std::size_t k = 0; k < 4; ++k) EXPECT_TRUE(poses[0][k].matrix() == poses[1][k].matrix()) << "frame " << k;
+}
+
+TEST(Odometry, RejectsBadSettingsAndNonFinitePriors) {
+  OdometryParams bad;
+  bad.source_voxel_m = 0.0;
+  EXPECT_THROW(Odometry{bad}, std::invalid_argument);
+  bad = {};
+  bad.icp.min_distance_m = -1.0;
+  EXPECT_THROW(Odometry{bad}, std::invalid_argument);
+  bad = {};
+  bad.min_distance_m = 3.0;  // above max_distance_m
+  EXPECT_THROW(Odometry{bad}, std::invalid_argument);
+
+  Odometry odometry(OdometryParams{});
+  Isometry3d nan = Isometry3d::Identity();
+  nan.translation().x() = NAN;
+  const auto reg = odometry.registerScan(test::streetCorner(11), nan);
+  EXPECT_TRUE(reg.fallback);
+  EXPECT_EQ(odometry.map().pointCount(), 0u);  // nothing anchored at a broken pose
+}
+
 TEST(Odometry, AnEmptyScanKeepsThePriorAndSaysSo) {
   Odometry odometry(OdometryParams{});
   odometry.registerScan(test::streetCorner(10), Isometry3d::Identity());

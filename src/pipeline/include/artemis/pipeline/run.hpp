@@ -6,7 +6,7 @@
 //   <out>/registration.json  with pose refinement: per frame, what ICP did (see registrationJson)
 //   <out>/config.json     the effective settings (given by the caller)
 //   <out>/timing.json     {"frames": N, "stages": {"<stage>": {"median_ms", "p95_ms", "max_ms"}, ...,
-//                          "total": {...}}, "peak_rss_mb": ...}
+//                          "total": {...}}, "finish_ms", "peak_rss_mb", "frames_failed"}
 // Every file is written atomically.
 
 #include <filesystem>
@@ -62,7 +62,8 @@ std::string timingJson(const RunReport& report);
 
 // registration.json text: {"frames": [{"frame", "fallback", "reason", "iterations",
 // "correspondences", "rms_m", "correction_m", "correction_deg", "first_distance_m",
-// "degenerate_directions", "source_points", "ms"}, ...], "fallbacks": N, "degenerate_frames": N}.
+// "degenerate_directions", "source_points", "ms", "icp_ms", "map_ms"}, ...], "fallbacks": N,
+// "degenerate_frames": N}.
 std::string registrationJson(const RunReport& report);
 
 }  // namespace artemis::pipeline

@@ -26,9 +26,10 @@ double sweepFraction(const Eigen::Vector3f& p);
 
 // `motion` = T_Lprev_Lcur, the sensor's motion over `period_s` seconds (the frame before to this
 // one), taken as a constant twist (screw motion, as a car's at constant speed and turn rate). A
-// point seen at time tau is moved by the motion between tau and the stamp. Does nothing unless timing.known() and
-// period_s > 0.
-void deskewScan(std::vector<Eigen::Vector3f>& points_L, const Isometry3d& motion, double period_s,
+// point seen at time tau is moved by the motion between tau and the stamp. Returns false, and leaves
+// the points as they are, unless timing.known() and period_s lies within 0.5-3 sweep lengths (glitched
+// stamps or a long gap between frames say little about the motion during the sweep).
+bool deskewScan(std::vector<Eigen::Vector3f>& points_L, const Isometry3d& motion, double period_s,
                 const SweepTiming& timing);
 
 }  // namespace artemis::registration

@@ -7,7 +7,8 @@
 // r = n . (p_W - q). The update perturbs the pose about the sensor's current position c:
 // p_W' = p_W + w x (p_W - c) + v, so the Jacobian row is [((p_W - c) x n)^T, n^T] and rotation and
 // translation stay decoupled however far the sensor is from the world origin. Each residual is
-// weighted by Geman-McClure's w(r) = s^4 / (s^2 + r^2)^2 with scale s = d * kernel_ratio.
+// weighted by Geman-McClure's w(r) = s^4 / (s^2 + r^2)^2 with scale s = max(d * kernel_ratio,
+// min_kernel_m).
 //
 // Degeneracy: the normal equations are scaled to common units (rotation times `lever_m`, a typical
 // point range, against translation) and split by eigen-decomposition; directions whose share of the

@@ -32,10 +32,10 @@ struct OdometryParams {
   // ICP uses one point per cell of this size (in the LiDAR frame), the first one the scan holds.
   double source_voxel_m = 1.5;
   double initial_distance_m = 2.0;  // first-stage distance before any prior error was measured
-  double min_distance_m = 0.3;      // bounds of the adaptive first-stage distance
-  double max_distance_m = 2.0;
+  double min_distance_m = 0.5;      // bounds of the adaptive first-stage distance (the finest stage,
+  double max_distance_m = 2.0;      // icp.min_distance_m, is a floor too)
   double min_motion_m = 0.1;
-  double max_range_m = 70.0;
+  double max_range_m = 70.0;  // lever of a rotation error in the adaptive distance (the range gate's)
   int threads = 0;  // 0: all cores
 };
 
@@ -63,11 +63,15 @@ class Odometry {
   Odometry& operator=(const Odometry&) = delete;
 
   // Registers a scan (LiDAR frame) starting from `prior_T_W_L`, then adds it to the local map at the
-  // registered pose. The first scan only builds the map: its pose is the prior.
-  FrameRegistration registerScan(const std::vector<Eigen::Vector3f>& points_L, const Isometry3d& prior_T_W_L);
+  // registered pose (at the prior on a fallback). The first scan only builds the map: its pose is
+  // the prior. frames_since_last: recording frames since the last registered scan (1 unless frames
+  // were skipped), so that the constant-velocity model stays per frame. A non-finite prior is a
+  // fallback that leaves the map alone.
+  FrameRegistration registerScan(const std::vector<Eigen::Vector3f>& points_L, const Isometry3d& prior_T_W_L,
+                                 int frames_since_last = 1);
 
-  // The last registered pose moved on by the last frame-to-frame motion, `frames` times (identity
-  // motion until two scans were registered). Needs at least one registered scan.
+  // The last registered pose moved on by the last per-frame motion (a constant twist), `frames`
+  // times; identity motion until two scans were registered, identity pose before the first.
   [[nodiscard]] Isometry3d predictConstantVelocity(int frames = 1) const;
   [[nodiscard]] std::optional<Isometry3d> lastPose() const { return last_; }
   [[nodiscard]] const LocalMap& map() const { return map_; }
@@ -79,7 +83,7 @@ class Odometry {
   OdometryParams params_;
   LocalMap map_;
   std::optional<Isometry3d> last_;
-  Isometry3d velocity_ = Isometry3d::Identity();  // T_Lprev_Lcur of the last two scans
+  Eigen::Matrix<double, 6, 1> velocity_ = Eigen::Matrix<double, 6, 1>::Zero();  // twist per frame
   double error_sq_sum_ = 0.0;
   int error_samples_ = 0;
   std::vector<Eigen::Vector3f> map_candidates_;  // scratch
