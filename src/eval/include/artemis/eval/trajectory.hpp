@@ -2,9 +2,9 @@
 // Trajectory accuracy against a reference trajectory of the same frames.
 //
 // Relative pose error over windows of `window` frames: for every i with i + window in range,
-// D_i = inv(inv(R_i) R_{i+w}) * (inv(E_i) E_{i+w}), R the reference and E the estimate, compares the estimated motion over the window
-// with the reference's; D_i's translation length and rotation angle are summarised. Independent of
-// how either trajectory is anchored in its world.
+// D_i = inv(inv(R_i) R_{i+w}) * (inv(E_i) E_{i+w}), R the reference and E the estimate, compares the estimated motion
+// over the window with the reference's; D_i's translation length and rotation angle are summarised. Independent of how
+// either trajectory is anchored in its world.
 //
 // Drift: both trajectories re-anchored at their first frame; the position error of each frame
 // divided by the reference path length up to it, as a percentage, at the last frame and at worst

@@ -36,7 +36,7 @@ struct OdometryParams {
   double max_distance_m = 2.0;      // icp.min_distance_m, is a floor too)
   double min_motion_m = 0.1;
   double max_range_m = 70.0;  // lever of a rotation error in the adaptive distance (the range gate's)
-  int threads = 0;  // 0: all cores
+  int threads = 0;            // 0: all cores
 };
 
 struct FrameRegistration {
