@@ -9,6 +9,8 @@
 #include <string>
 #include <utility>
 
+#include "artemis/core/cell_hash.hpp"
+
 namespace artemis::mapping {
 
 VoxelMap::VoxelMap(const VoxelMapParams& params) : params_(params) {
@@ -22,15 +24,7 @@ VoxelMap::VoxelMap(const VoxelMapParams& params) : params_(params) {
 }
 
 std::uint64_t VoxelMap::hashOf(const VoxelKey& key) {
-  // SplitMix64 over the packed key: well spread for the low bits the mask keeps.
-  std::uint64_t h = (static_cast<std::uint64_t>(static_cast<std::uint32_t>(key.x)) << 42) ^
-                    (static_cast<std::uint64_t>(static_cast<std::uint32_t>(key.y)) << 21) ^
-                    static_cast<std::uint64_t>(static_cast<std::uint32_t>(key.z));
-  h += 0x9E3779B97F4A7C15ull;
-  h = (h ^ (h >> 30)) * 0xBF58476D1CE4E5B9ull;
-  h = (h ^ (h >> 27)) * 0x94D049BB133111EBull;
-  h ^= h >> 31;
-  return h;
+  return hashCell(key.x, key.y, key.z);
 }
 
 std::size_t VoxelMap::slotOf(const VoxelKey& key) const {

@@ -10,6 +10,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "artemis/core/cell_hash.hpp"
+
 namespace artemis::registration {
 
 LocalMap::LocalMap(const LocalMapParams& params) : params_(params) {
@@ -33,14 +35,7 @@ LocalMap::Key LocalMap::keyOf(const Eigen::Vector3f& p) const {
 }
 
 std::uint64_t LocalMap::hashOf(const Key& key) {
-  // SplitMix64 over the packed key.
-  std::uint64_t h = (static_cast<std::uint64_t>(static_cast<std::uint32_t>(key.x)) << 42) ^
-                    (static_cast<std::uint64_t>(static_cast<std::uint32_t>(key.y)) << 21) ^
-                    static_cast<std::uint64_t>(static_cast<std::uint32_t>(key.z));
-  h += 0x9E3779B97F4A7C15ull;
-  h = (h ^ (h >> 30)) * 0xBF58476D1CE4E5B9ull;
-  h = (h ^ (h >> 27)) * 0x94D049BB133111EBull;
-  return h ^ (h >> 31);
+  return hashCell(key.x, key.y, key.z);
 }
 
 const LocalMap::Voxel* LocalMap::find(const Key& key) const {
