@@ -9,5 +9,6 @@ void addDatasetCommands(CLI::App& app, int& exit_code);
 void addSimCommand(CLI::App& app, int& exit_code);
 void addRunCommand(CLI::App& app, int& exit_code);
 void addEvalCommands(CLI::App& app, int& exit_code);
+void addGroundCommand(CLI::App& app, int& exit_code);
 
 }  // namespace artemis::cli

@@ -35,6 +35,7 @@ int run(int argc, char** argv) {
   artemis::cli::addSimCommand(app, exit_code);
   artemis::cli::addRunCommand(app, exit_code);
   artemis::cli::addEvalCommands(app, exit_code);
+  artemis::cli::addGroundCommand(app, exit_code);
 
   try {
     app.parse(argc, argv);

@@ -9,7 +9,7 @@
 #include <sstream>
 
 namespace artemis::embedded {
-std::string_view semantickitti_vocabulary();
+std::string_view semanticKittiVocabulary();
 }  // namespace artemis::embedded
 
 namespace artemis::semantics {
@@ -24,12 +24,12 @@ std::string Vocabulary::canonicalName(std::string_view name) {
 }
 
 const Vocabulary& Vocabulary::semanticKitti() {
-  static const Vocabulary vocabulary = [] {
-    auto parsed = parse(embedded::semantickitti_vocabulary(), "built-in SemanticKITTI vocabulary");
+  static const Vocabulary kVocabulary = [] {
+    auto parsed = parse(embedded::semanticKittiVocabulary(), "built-in SemanticKITTI vocabulary");
     if (!parsed) throw std::logic_error(parsed.status().message());
     return std::move(parsed).value();
   }();
-  return vocabulary;
+  return kVocabulary;
 }
 
 Result<Vocabulary> Vocabulary::parse(std::string_view json, const std::string& origin) {
