@@ -8,10 +8,12 @@
 #include "artemis/core/log.hpp"
 #include "artemis/core/timer.hpp"
 #include "artemis/pipeline/run.hpp"
+#include "artemis/semantics/query_grounder.hpp"
 #include "artemis/sim/writer.hpp"
 #include "commands.hpp"
 #include "dataset_flags.hpp"
 #include "progress.hpp"
+#include "segmenter_setup.hpp"
 
 namespace artemis::cli {
 namespace {
@@ -23,7 +25,72 @@ struct RunFlags {
   std::string out = "out/run";
   std::string pose_refinement = "auto";
   pipeline::RunParams params;
+  // Semantics
+  std::vector<std::string> queries;
+  std::string segmenter;  // "", "sim", "maskfile"
+  std::string segmenter_noise = "standard";
+  std::uint64_t seed = 1;
+  std::string masks;   // maskfile: the folder of masks
+  std::string sim_gt;  // sim: the simulator's gt/ folder (default: found beside the recording)
+  std::string vocabulary;
+  std::string aliases;
 };
+
+struct SemanticSetup {
+  semantics::Vocabulary vocabulary;
+  std::unique_ptr<semantics::QueryGrounder> grounder;
+  std::unique_ptr<semantics::Segmenter> segmenter;
+  semantics::ActiveBrush brush;
+  std::string settings_json;
+};
+
+// Builds the vocabulary, grounds the queries and opens the segmenter. Nothing to do without a
+// segmenter; a query without one, or a segmenter without a query, is an error.
+Result<std::unique_ptr<SemanticSetup>> setUpSemantics(const RunFlags& f, const datasets::Dataset& dataset) {
+  if (f.segmenter.empty()) {
+    if (!f.queries.empty())
+      return invalidArgument("--query needs a segmenter: --segmenter sim or --segmenter maskfile");
+    return std::unique_ptr<SemanticSetup>();
+  }
+  if (f.queries.empty()) {
+    return invalidArgument("--segmenter needs at least one --query (the classes to segment, e.g. --query \"cars\")");
+  }
+  auto setup = std::make_unique<SemanticSetup>();
+  if (f.vocabulary.empty()) {
+    setup->vocabulary = semantics::Vocabulary::semanticKitti();
+  } else {
+    auto v = semantics::Vocabulary::load(f.vocabulary);
+    if (!v) return v.status();
+    setup->vocabulary = std::move(*v);
+  }
+  semantics::AliasTable aliases = semantics::AliasTable::builtin();
+  if (!f.aliases.empty()) {
+    auto user = semantics::AliasTable::load(f.aliases);
+    if (!user) return user.status();
+    aliases = aliases.extendedWith(*user);
+  }
+  auto grounder = semantics::QueryGrounder::create(setup->vocabulary, aliases);
+  if (!grounder) return grounder.status();
+  setup->grounder = std::make_unique<semantics::QueryGrounder>(std::move(*grounder));
+  // Every query must name some class; terms it could not place are warned about.
+  for (const std::string& q : f.queries) {
+    auto g = setup->grounder->ground(q);
+    if (!g) return g.status();
+    if (g->classes.empty()) return invalidArgument(semantics::describe(*g, setup->vocabulary));
+    std::string names;
+    for (const auto c : g->classes) names += (names.empty() ? "" : ", ") + std::string(setup->vocabulary.name(c));
+    log::info("query '{}': {}", q, names);
+    for (const std::string& term : g->unmatched) log::warn("query '{}': no class matches '{}'", q, term);
+    for (const auto& a : g->ambiguous) log::warn("query '{}': '{}' left out: {}", q, a.term, a.reason);
+    setup->brush.add(q, g->classes);
+  }
+  const SegmenterChoice choice{f.segmenter, f.segmenter_noise, f.seed, f.sim_gt, f.masks};
+  auto segmenter =
+      makeSegmenter(choice, setup->vocabulary, setup->grounder.get(), dataset.root(), &setup->settings_json);
+  if (!segmenter) return segmenter.status();
+  setup->segmenter = std::move(*segmenter);
+  return setup;
+}
 
 // "auto": on where the poses come from GPS/IMU (KITTI raw's OXTS) or there are none; off where the
 // recording's or the user's poses are taken as they are (KITTI odometry ground truth, a poses file).
@@ -45,6 +112,22 @@ Result<bool> resolvePoseRefinement(const RunFlags& f, const datasets::Dataset& d
 
 nlohmann::ordered_json configJson(const RunFlags& f, const std::string& dataset_path) {
   const auto& m = f.params.mapper;
+  nlohmann::ordered_json semantic = nullptr;
+  if (!f.segmenter.empty()) {
+    semantic = {{"queries", f.queries},
+                {"segmenter", f.segmenter},
+                {"segmenter_noise", f.segmenter_noise},
+                {"seed", f.seed},
+                {"masks", f.masks},
+                {"sim_gt", f.sim_gt},
+                {"vocabulary", f.vocabulary.empty() ? "semantickitti" : f.vocabulary},
+                {"aliases", f.aliases.empty() ? "built-in" : f.aliases},
+                {"sigma_depth_m", m.semantics.sigma_depth_m},
+                {"depth_window_px", m.semantics.depth_window_px},
+                {"background_score", m.semantics.background_score},
+                {"confidence_lambda", m.semantics.confidence_lambda},
+                {"voxel_prior", m.semantics.voxel_prior}};
+  }
   return {{"dataset",
            {{"path", dataset_path},
             {"format", f.dataset.format},
@@ -75,7 +158,8 @@ nlohmann::ordered_json configJson(const RunFlags& f, const std::string& dataset_
           {"remesh_growth", m.remesh_growth},
           {"remesh_min_new", m.remesh_min_new},
           {"first_mesh_points", m.first_mesh_points},
-          {"threads", m.threads}};
+          {"threads", m.threads},
+          {"semantics", semantic}};
 }
 
 // With no recording given: simulate the demo street into <out>/sim and map that.
@@ -104,10 +188,23 @@ int runRun(RunFlags flags) {
     }
     flags.dataset.path = *demo;
   }
-  auto dataset = flags.dataset.open(/*load_images=*/false);
+  // Images are read only for semantics (the segmenter's input).
+  auto dataset = flags.dataset.open(/*load_images=*/!flags.segmenter.empty());
   if (!dataset) {
     log::error("{}", dataset.status().message());
     return 1;
+  }
+  auto semantic = setUpSemantics(flags, **dataset);
+  if (!semantic) {
+    log::error("{}", semantic.status().message());
+    return 1;
+  }
+  if (*semantic) {
+    auto& sem = flags.params.semantics;
+    sem.segmenter = (*semantic)->segmenter.get();
+    sem.brush = &(*semantic)->brush;
+    sem.vocabulary = &(*semantic)->vocabulary;
+    sem.segmenter_settings_json = (*semantic)->settings_json;
   }
   auto refine = resolvePoseRefinement(flags, **dataset);
   if (!refine) {
@@ -149,6 +246,16 @@ int runRun(RunFlags flags) {
       "{:.1f} / {:.1f}; final meshing {:.0f} ms; peak memory {:.0f} MB; {:.1f} s in all\n",
       insert.median_ms, insert.p95_ms, mesh.median_ms, mesh.p95_ms, total.median_ms, total.p95_ms, report->finish_ms,
       report->peak_rss_mb, clock.elapsedS());
+  if (*semantic) {
+    const auto fuse = report->times.summary("fuse");
+    const auto segment = report->times.summary("segment");
+    fmt::print(
+        "semantics: {} frames fused, {} without an observation; {} of {} vertices labelled -> {}/mesh_classes.ply, "
+        "{}/semantics.json\n"
+        "per frame (median / p95 ms): fuse {:.1f} / {:.1f} (in total); segmentation ({}) {:.1f} / {:.1f} (apart)\n",
+        report->frames_observed, report->frames_unobserved, report->vertices_labelled, report->vertices, flags.out,
+        flags.out, fuse.median_ms, fuse.p95_ms, flags.segmenter, segment.median_ms, segment.p95_ms);
+  }
   return 0;
 }
 
@@ -193,6 +300,36 @@ void addRunCommand(CLI::App& app, int& exit_code) {
                   "Correspondence distance of registration's finest stage (m)")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
+  cmd->add_option("-q,--query", flags->queries,
+                  "Classes to segment and fuse, in words (\"cars and buildings\", \"vegetation\"); repeat for more. "
+                  "Needs --segmenter")
+      ->take_all();
+  cmd->add_option("--segmenter", flags->segmenter,
+                  "sim: the simulator's ground truth with noise (artemis sim output); maskfile: masks an external "
+                  "segmenter wrote (--masks)")
+      ->check(CLI::IsMember({"sim", "maskfile"}));
+  cmd->add_option("--segmenter-noise", flags->segmenter_noise, "sim: none, standard or heavy")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"none", "standard", "heavy"}));
+  cmd->add_option("--seed", flags->seed, "sim: seed of the segmenter's noise")->capture_default_str();
+  cmd->add_option("--masks", flags->masks, "maskfile: folder of NNNNNN.png + NNNNNN.json per frame (see README)");
+  cmd->add_option("--sim-gt", flags->sim_gt, "sim: the simulator's gt/ folder (default: found beside the recording)");
+  cmd->add_option("--vocabulary", flags->vocabulary, "Class vocabulary JSON (default: SemanticKITTI's 19 classes)");
+  cmd->add_option("--aliases", flags->aliases, "Alias table JSON extending the built-in one (see artemis ground)");
+  cmd->add_flag("--semantic-distribution", flags->params.semantics.write_distribution,
+                "Also write each vertex's class distribution (prob_<class>) into mesh.ply");
+  auto& sf = m.semantics;
+  cmd->add_option("--sigma-depth", sf.sigma_depth_m, "sigma_d of eq. 1: depth-uncertainty scale (m)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--voxel-prior", sf.voxel_prior,
+                  "Weight of a vertex's voxel (0.4 m) distribution against its own cell's evidence")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--background-score", sf.background_score,
+                  "Confidence of a pixel outside every mask (\"none of the prompted classes\")")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
   cmd->callback([flags, &exit_code] { exit_code = runRun(*flags); });
 }
 

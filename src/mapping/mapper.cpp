@@ -45,11 +45,17 @@ void sortSpatially(std::vector<VoxelKey>& keys) {
 }  // namespace
 
 Mapper::Mapper(const MapperParams& params)
-    : params_(params), map_(params.voxels), mesher_(params.mesher), arena_(std::make_unique<Arena>(params.threads)) {}
+    : params_(params),
+      map_(params.voxels),
+      mesher_(params.mesher),
+      fusion_(params.semantics),
+      arena_(std::make_unique<Arena>(params.threads)) {
+  mesh_.setVoxelPrior(static_cast<float>(params.semantics.voxel_prior));
+}
 
 Mapper::~Mapper() = default;
 
-FrameStats Mapper::integrate(const PointCloud& points_L, const Isometry3d& T_W_L) {
+FrameStats Mapper::integrate(const PointCloud& points_L, const Isometry3d& T_W_L, const SemanticInput* semantic) {
   FrameStats stats;
   stats.points = points_L.size();
   mesh_.beginFrame();
@@ -61,10 +67,17 @@ FrameStats Mapper::integrate(const PointCloud& points_L, const Isometry3d& T_W_L
   for (std::size_t i = 0; i < points_L.size(); ++i) points_W[i] = R * points_L.points[i] + t;
   const std::size_t vertices_before = mesh_.vertexCount();
   std::vector<VoxelKey> active;
+  const bool fuse = semantic != nullptr && semantic->view != nullptr && semantic->observation != nullptr;
   arena_->arena.execute([&] { active = map_.insert(points_W, t, mesh_); });
   stats.points_kept = mesh_.vertexCount() - vertices_before;
   stats.active_voxels = active.size();
   stats.insert_ms = clock.elapsedMs();
+
+  if (fuse) {
+    const FusionStats f = fusion_.fuse(points_L, map_, T_W_L, *semantic->view, *semantic->observation, mesh_);
+    stats.fuse_ms = f.ms;
+    stats.semantic_observations = f.observations;
+  }
 
   clock.reset();
   std::vector<VoxelKey> due;

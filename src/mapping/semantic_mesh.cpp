@@ -1,16 +1,100 @@
 #include "artemis/mapping/semantic_mesh.hpp"
 
 #include <algorithm>
+#include <array>
+#include <cmath>
 
 namespace artemis::mapping {
 
 std::uint32_t SemanticMesh::addVertex(const Eigen::Vector3f& p_W, const VoxelKey& voxel,
-                                      const Eigen::Vector3f& to_sensor) {
+                                      const Eigen::Vector3f& to_sensor, std::uint32_t voxel_index) {
   positions_.push_back(p_W);
+  voxel_index_.push_back(voxel_index);
   normals_.push_back(to_sensor);  // until the voxel's plane gives a better one
   voxels_.push_back(voxel);
   views_.push_back(to_sensor);
   return static_cast<std::uint32_t>(positions_.size() - 1);
+}
+
+std::size_t SemanticMesh::addSemanticClass(semantics::ClassId cls) {
+  if (const int s = slotOf(cls); s >= 0) return static_cast<std::size_t>(s);
+  const std::size_t old_slots = slots_.size();
+  slots_.push_back(cls);
+  // Re-lay the evidence out with the new slot empty: once per new class, O(vertices).
+  const auto relayout = [&](std::vector<float>& evidence, std::size_t n) {
+    std::vector<float> out(n * slots_.size(), 0.0f);
+    for (std::size_t i = 0; i < n; ++i) std::copy_n(&evidence[i * old_slots], old_slots, &out[i * slots_.size()]);
+    evidence = std::move(out);
+  };
+  relayout(evidence_, semantic_weight_.size());
+  relayout(voxel_evidence_, voxel_weight_.size());
+  return slots_.size() - 1;
+}
+
+int SemanticMesh::slotOf(semantics::ClassId cls) const {
+  const auto it = std::find(slots_.begin(), slots_.end(), cls);
+  return it == slots_.end() ? -1 : static_cast<int>(it - slots_.begin());
+}
+
+void SemanticMesh::observe(std::uint32_t v, std::size_t slot, float w) {
+  if (v >= semantic_weight_.size()) {
+    // Vertices are born in order; grow in steps so that a frame's new vertices cost one resize.
+    const std::size_t n = std::max<std::size_t>(v + 1, positions_.size());
+    semantic_weight_.resize(n, 0.0f);
+    evidence_.resize(n * slots_.size(), 0.0f);
+  }
+  evidence_[static_cast<std::size_t>(v) * slots_.size() + slot] += w;
+  semantic_weight_[v] += w;
+  const std::uint32_t voxel = voxel_index_[v];
+  if (voxel >= voxel_weight_.size()) {
+    const std::size_t n = std::max<std::size_t>(voxel + 1, 2 * voxel_weight_.size());
+    voxel_weight_.resize(n, 0.0f);
+    voxel_evidence_.resize(n * slots_.size(), 0.0f);
+  }
+  voxel_evidence_[static_cast<std::size_t>(voxel) * slots_.size() + slot] += w;
+  voxel_weight_[voxel] += w;
+}
+
+float SemanticMesh::voxelSemanticWeight(std::uint32_t v) const {
+  const std::uint32_t voxel = voxel_index_[v];
+  return voxel < voxel_weight_.size() ? voxel_weight_[voxel] : 0.0f;
+}
+
+bool SemanticMesh::distribution(std::uint32_t v, float* out) const {
+  const std::size_t n = slots_.size();
+  std::fill_n(out, n, 0.0f);
+  const float w_cell = semanticWeight(v);
+  const float w_voxel = voxelSemanticWeight(v);
+  if (!(w_cell > 0.0f) && !(w_voxel > 0.0f)) return false;
+  float sum = 0.0f;
+  if (w_cell > 0.0f) {
+    const float* e = &evidence_[static_cast<std::size_t>(v) * n];
+    for (std::size_t s = 0; s < n; ++s) out[s] = e[s];
+    sum = w_cell;
+  }
+  if (w_voxel > 0.0f) {
+    const float* e = &voxel_evidence_[static_cast<std::size_t>(voxel_index_[v]) * n];
+    const float k = voxel_prior_ / w_voxel;
+    for (std::size_t s = 0; s < n; ++s) out[s] += k * e[s];
+    sum += voxel_prior_;
+  }
+  for (std::size_t s = 0; s < n; ++s) out[s] /= sum;
+  return true;
+}
+
+semantics::ClassId SemanticMesh::vertexClass(std::uint32_t v) const {
+  constexpr std::size_t kMaxSlots = 256;
+  std::array<float, kMaxSlots> p{};
+  if (!distribution(v, p.data())) return semantics::kNoClass;
+  std::size_t best = 0;
+  for (std::size_t s = 1; s < slots_.size(); ++s) {
+    if (p[s] > p[best]) best = s;
+  }
+  return slots_[best];
+}
+
+float SemanticMesh::confidence(std::uint32_t v, double lambda) const {
+  return static_cast<float>(1.0 - std::exp(-lambda * static_cast<double>(voxelSemanticWeight(v))));
 }
 
 void SemanticMesh::setVoxelFaces(const VoxelKey& voxel, std::vector<Face> faces) {

@@ -60,8 +60,6 @@ void VoxelMap::grow() {
 std::vector<VoxelKey> VoxelMap::insert(const std::vector<Eigen::Vector3f>& points_W, const Eigen::Vector3f& sensor_W,
                                        SemanticMesh& mesh) {
   ++frame_;
-  const int n = params_.subdivisions;
-  const float voxel = voxelSize();
   // First, in parallel: each point's voxel key, its hash and its sub-cell. Keys are 32-bit: points
   // beyond +-1000 km (a broken pose) are refused, as are NaN and inf (sub_cell -1).
   prepared_.resize(points_W.size());
@@ -75,12 +73,7 @@ std::vector<VoxelKey> VoxelMap::insert(const std::vector<Eigen::Vector3f>& point
       }
       out.key = keyOf(p);
       out.hash = hashOf(out.key);
-      // Sub-cell within the voxel, clamped against rounding at the voxel's far faces.
-      const auto sub = [&](float c, std::int32_t k) {
-        const int s = static_cast<int>((c - static_cast<float>(k) * voxel) * inv_sub_size_);
-        return std::clamp(s, 0, n - 1);
-      };
-      out.sub_cell = (sub(p.x(), out.key.x) * n + sub(p.y(), out.key.y)) * n + sub(p.z(), out.key.z);
+      out.sub_cell = subCellOf(p, out.key);
     }
   });
 
@@ -98,7 +91,7 @@ std::vector<VoxelKey> VoxelMap::insert(const std::vector<Eigen::Vector3f>& point
   std::uint32_t last_index = 0;
   for (std::size_t i = 0; i < points_W.size(); ++i) {
     prefetch(i + kAhead);
-    const Prepared& q = prepared_[i];
+    Prepared& q = prepared_[i];
     if (q.sub_cell < 0) {
       ++rejected_;
       continue;
@@ -107,14 +100,16 @@ std::vector<VoxelKey> VoxelMap::insert(const std::vector<Eigen::Vector3f>& point
       last_index = findOrAdd(q.key, q.hash);
       last_key = q.key;
     }
+    q.voxel = last_index;
     Voxel& v = voxels_[last_index];
     const std::uint64_t mask = std::uint64_t{1} << (q.sub_cell & 63);
     std::uint64_t& word = v.occupied[static_cast<std::size_t>(q.sub_cell >> 6)];
     if ((word & mask) != 0) continue;  // a point already holds this sub-cell
     word |= mask;
     const Eigen::Vector3f& p = points_W[i];
-    v.vertices.push_back(mesh.addVertex(p, q.key, (sensor_W - p).normalized()));
+    v.vertices.push_back(mesh.addVertex(p, q.key, (sensor_W - p).normalized(), last_index));
     v.points.push_back(p);
+    v.sub_cells.push_back(static_cast<std::uint16_t>(q.sub_cell));
     v.lo = v.lo.cwiseMin(p);
     v.hi = v.hi.cwiseMax(p);
     if (v.active_frame != frame_) {
@@ -123,6 +118,34 @@ std::vector<VoxelKey> VoxelMap::insert(const std::vector<Eigen::Vector3f>& point
     }
   }
   return active;
+}
+
+int VoxelMap::subCellOf(const Eigen::Vector3f& p, const VoxelKey& key) const {
+  const int n = params_.subdivisions;
+  const float voxel = voxelSize();
+  const auto sub = [&](float c, std::int32_t k) {
+    const int s = static_cast<int>((c - static_cast<float>(k) * voxel) * inv_sub_size_);
+    return std::clamp(s, 0, n - 1);
+  };
+  return (sub(p.x(), key.x) * n + sub(p.y(), key.y)) * n + sub(p.z(), key.z);
+}
+
+std::uint32_t VoxelMap::insertedVertex(std::size_t i) const {
+  if (i >= prepared_.size() || prepared_[i].sub_cell < 0) return kNoVertex;
+  const Voxel& v = voxels_[prepared_[i].voxel];
+  const auto sub_cell = static_cast<std::uint16_t>(prepared_[i].sub_cell);
+  const auto it = std::find(v.sub_cells.begin(), v.sub_cells.end(), sub_cell);
+  return it == v.sub_cells.end() ? kNoVertex : v.vertices[static_cast<std::size_t>(it - v.sub_cells.begin())];
+}
+
+std::uint32_t VoxelMap::vertexAt(const Eigen::Vector3f& p_W) const {
+  if (!p_W.allFinite() || !(p_W.cwiseAbs().maxCoeff() < 1e6f)) return kNoVertex;
+  const VoxelKey key = keyOf(p_W);
+  const Voxel* v = find(key);
+  if (v == nullptr) return kNoVertex;
+  const auto sub_cell = static_cast<std::uint16_t>(subCellOf(p_W, key));
+  const auto it = std::find(v->sub_cells.begin(), v->sub_cells.end(), sub_cell);
+  return it == v->sub_cells.end() ? kNoVertex : v->vertices[static_cast<std::size_t>(it - v->sub_cells.begin())];
 }
 
 const Voxel* VoxelMap::find(const VoxelKey& key) const {

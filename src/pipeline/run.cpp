@@ -26,7 +26,7 @@ Status writeText(const fs::path& path, const std::string& text) {
 
 }  // namespace
 
-Status writeMeshPly(const mapping::SemanticMesh& mesh, const fs::path& path) {
+Status writeMeshPly(const mapping::SemanticMesh& mesh, const fs::path& path, const SemanticPlyOptions* semantics) {
   const auto compact = mesh.compact();
   std::vector<float> xyz(3 * compact.vertex_ids.size());
   std::vector<float> normals(3 * compact.vertex_ids.size());
@@ -42,6 +42,53 @@ Status writeMeshPly(const mapping::SemanticMesh& mesh, const fs::path& path) {
   for (const auto& f : compact.faces) triangles.insert(triangles.end(), f.begin(), f.end());
   io::PlyData ply = io::makePlyMesh({.xyz = &xyz, .normals = &normals, .rgb = nullptr, .triangles = &triangles});
   ply.comments.push_back("ARTEMIS Living Map: world frame, normals towards the sensor");
+  if (semantics != nullptr && semantics->vocabulary != nullptr) {
+    const std::size_t n = compact.vertex_ids.size();
+    std::vector<std::uint8_t> class_id(n);
+    std::vector<float> confidence(n);
+    for (std::size_t i = 0; i < n; ++i) {
+      class_id[i] = mesh.vertexClass(compact.vertex_ids[i]);
+      confidence[i] = mesh.confidence(compact.vertex_ids[i], semantics->confidence_lambda);
+    }
+    ply.comments.push_back("class_id: vocabulary id (see semantics.json; 0: none), confidence: 1 - exp(-lambda W_sem)");
+    if (Status s = ply.setScalar("vertex", "class_id", std::move(class_id)); !s.isOk()) return s;
+    if (Status s = ply.setScalar("vertex", "confidence", std::move(confidence)); !s.isOk()) return s;
+    if (semantics->distribution) {
+      const auto& slots = mesh.semanticSlots();
+      std::vector<std::vector<float>> p(slots.size(), std::vector<float>(n, 0.0f));
+      std::vector<float> d(slots.size());
+      for (std::size_t i = 0; i < n; ++i) {
+        if (!mesh.distribution(compact.vertex_ids[i], d.data())) continue;
+        for (std::size_t slot = 0; slot < slots.size(); ++slot) p[slot][i] = d[slot];
+      }
+      for (std::size_t slot = 0; slot < slots.size(); ++slot) {
+        std::string name(semantics->vocabulary->name(slots[slot]));
+        std::replace(name.begin(), name.end(), '-', '_');
+        if (Status s = ply.setScalar("vertex", "prob_" + name, std::move(p[slot])); !s.isOk()) return s;
+      }
+    }
+  }
+  return io::writePly(path, ply);
+}
+
+Status writeClassColouredPly(const mapping::SemanticMesh& mesh, const semantics::Vocabulary& vocabulary,
+                             const fs::path& path) {
+  const auto compact = mesh.compact();
+  std::vector<float> xyz(3 * compact.vertex_ids.size());
+  std::vector<std::uint8_t> rgb(3 * compact.vertex_ids.size());
+  for (std::size_t i = 0; i < compact.vertex_ids.size(); ++i) {
+    const std::uint32_t v = compact.vertex_ids[i];
+    const auto colour = vocabulary.colour(mesh.vertexClass(v));
+    for (std::size_t k = 0; k < 3; ++k) {
+      xyz[3 * i + k] = mesh.positions()[v](static_cast<Eigen::Index>(k));
+      rgb[3 * i + k] = colour[k];
+    }
+  }
+  std::vector<std::uint32_t> triangles;
+  triangles.reserve(3 * compact.faces.size());
+  for (const auto& f : compact.faces) triangles.insert(triangles.end(), f.begin(), f.end());
+  io::PlyData ply = io::makePlyMesh({.xyz = &xyz, .normals = nullptr, .rgb = &rgb, .triangles = &triangles});
+  ply.comments.push_back("ARTEMIS Living Map coloured by class (grey: none of the prompted classes)");
   return io::writePly(path, ply);
 }
 
@@ -49,8 +96,8 @@ std::string timingJson(const RunReport& report) {
   nlohmann::ordered_json j;
   j["frames"] = report.frames;
   nlohmann::ordered_json stages = nlohmann::ordered_json::object();
-  for (const std::string& stage :
-       {std::string("read"), std::string("register"), std::string("insert"), std::string("mesh")}) {
+  for (const std::string& stage : {std::string("read"), std::string("register"), std::string("segment"),
+                                   std::string("insert"), std::string("fuse"), std::string("mesh")}) {
     if (report.times.samples(stage).empty()) continue;
     const StageSummary s = report.times.summary(stage);
     stages[stage] = {{"median_ms", s.median_ms}, {"p95_ms", s.p95_ms}, {"max_ms", s.max_ms}};
@@ -90,6 +137,35 @@ std::string registrationJson(const RunReport& report) {
   return j.dump(1) + "\n";
 }
 
+std::string semanticsJson(const RunReport& report, const RunParams& params) {
+  const SemanticRunParams& sem = params.semantics;
+  nlohmann::ordered_json j;
+  j["vocabulary"] = nlohmann::ordered_json::parse(sem.vocabulary->toJson());
+  std::vector<int> prompted;
+  for (const semantics::ClassId c : sem.brush->prompts()) prompted.push_back(c);
+  j["prompted"] = prompted;
+  nlohmann::ordered_json queries = nlohmann::ordered_json::array();
+  for (const semantics::QueryRecord& q : sem.brush->history()) {
+    std::vector<std::string> names;
+    for (const semantics::ClassId c : q.classes) names.emplace_back(sem.vocabulary->name(c));
+    queries.push_back({{"text", q.text}, {"classes", names}, {"first_frame", q.first_frame}});
+  }
+  j["queries"] = queries;
+  j["segmenter"] = sem.segmenter->name();
+  j["segmenter_settings"] = nlohmann::ordered_json::parse(sem.segmenter_settings_json);
+  j["camera"] = sem.camera;
+  j["frames_observed"] = report.frames_observed;
+  j["frames_unobserved"] = report.frames_unobserved;
+  j["vertices_labelled"] = report.vertices_labelled;
+  const mapping::SemanticFusionParams& f = params.mapper.semantics;
+  j["fusion"] = {{"sigma_depth_m", f.sigma_depth_m},
+                 {"depth_window_px", f.depth_window_px},
+                 {"background_score", f.background_score},
+                 {"confidence_lambda", f.confidence_lambda},
+                 {"voxel_prior", f.voxel_prior}};
+  return j.dump(1) + "\n";
+}
+
 Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& params, const fs::path& out,
                               const std::string& config_json, const ProgressFn& progress) {
   std::error_code ec;
@@ -114,6 +190,19 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
   }
   bool warned_no_sweep = false;
   std::size_t not_deskewed = 0;
+  const SemanticRunParams& sem = params.semantics;
+  const bool semantic = sem.segmenter != nullptr;
+  if (semantic && (sem.brush == nullptr || sem.vocabulary == nullptr)) {
+    return invalidArgument("semantics: a segmenter needs a brush and a vocabulary");
+  }
+  std::size_t unobserved_logged = 0;
+  const auto unobserved = [&](std::size_t index, const std::string& why) {
+    ++report.frames_unobserved;
+    if (++unobserved_logged <= 10) {
+      log::warn("frame {}: no semantic observation: {}{}", index, why,
+                unobserved_logged == 10 ? " (further frames like this are counted, not logged)" : "");
+    }
+  };
 
   std::string trajectory;
   std::optional<Isometry3d> last_T;  // pose of the last mapped frame
@@ -180,11 +269,46 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
       }
       report.times.add("register", register_clock.elapsedMs());
     }
-    const mapping::FrameStats stats = mapper.integrate(frame->points_L, T_W_L);
+    // Segmentation: apart from the mapping pipeline's time (a neural segmenter runs on its own).
+    double segment_ms = 0.0;
+    semantics::SemanticObservation observation;
+    const CameraView* view = nullptr;
+    if (semantic) {
+      Stopwatch segment_clock;
+      const std::vector<semantics::ClassId> prompts = sem.brush->beginFrame(i);
+      for (const semantics::ClassId c : prompts) mapper.addSemanticClass(c);
+      for (const CameraView& c : frame->cameras) {
+        if (c.name == sem.camera) view = &c;
+      }
+      if (view == nullptr && !frame->cameras.empty()) view = &frame->cameras.front();
+      if (view == nullptr) {
+        unobserved(frame->index, "the recording has no camera");
+      } else if (!view->hasImage()) {
+        unobserved(frame->index, fmt::format("no image {}", view->image_path));
+      } else {
+        auto segmented = sem.segmenter->segment({frame->index, view}, prompts);
+        if (!segmented) {
+          unobserved(frame->index, segmented.status().message());
+        } else if (!segmented->observed) {
+          unobserved(frame->index, segmented->note);
+        } else if (Status valid = segmented->validate(prompts); !valid.isOk()) {
+          unobserved(frame->index, fmt::format("{} segmenter: {}", sem.segmenter->name(), valid.message()));
+        } else {
+          observation = std::move(*segmented);
+          ++report.frames_observed;
+        }
+      }
+      segment_ms = segment_clock.elapsedMs();
+      report.times.add("segment", segment_ms);
+    }
+    const mapping::SemanticInput semantic_input{view, &observation};
+    const mapping::FrameStats stats =
+        mapper.integrate(frame->points_L, T_W_L, observation.observed ? &semantic_input : nullptr);
     report.times.add("read", read_ms);
     report.times.add("insert", stats.insert_ms);
+    if (semantic) report.times.add("fuse", stats.fuse_ms);
     report.times.add("mesh", stats.mesh_ms);
-    report.times.add("total", frame_clock.elapsedMs());
+    report.times.add("total", frame_clock.elapsedMs() - segment_ms);
     trajectory += formatRowMajor3x4(T_W_L) + "\n";
     last_T = T_W_L;
     last_i = i;
@@ -209,7 +333,22 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
   if (not_deskewed > 0) log::warn("{} frames were not deskewed (see above)", not_deskewed);
   report.vertices = mapper.mesh().vertexCount();
   report.faces = mapper.mesh().faceCount();
-  if (Status s = writeMeshPly(mapper.mesh(), out / "mesh.ply"); !s.isOk()) return s;
+  SemanticPlyOptions ply_semantics{sem.vocabulary, params.mapper.semantics.confidence_lambda, sem.write_distribution};
+  if (Status s = writeMeshPly(mapper.mesh(), out / "mesh.ply", semantic ? &ply_semantics : nullptr); !s.isOk()) {
+    return s;
+  }
+  if (semantic) {
+    if (Status s = writeClassColouredPly(mapper.mesh(), *sem.vocabulary, out / "mesh_classes.ply"); !s.isOk()) {
+      return s;
+    }
+    for (std::uint32_t v = 0; v < mapper.mesh().vertexCount(); ++v) {
+      if (mapper.mesh().vertexClass(v) != semantics::kNoClass) ++report.vertices_labelled;
+    }
+    if (Status s = writeText(out / "semantics.json", semanticsJson(report, params)); !s.isOk()) return s;
+    if (report.frames_unobserved > 0) {
+      log::warn("{} of {} frames had no semantic observation (see above)", report.frames_unobserved, report.frames);
+    }
+  }
   if (Status s = writeText(out / "trajectory.txt", trajectory); !s.isOk()) return s;
   if (odometry) {
     if (Status s = writeText(out / "registration.json", registrationJson(report)); !s.isOk()) return s;

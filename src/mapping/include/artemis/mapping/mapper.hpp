@@ -10,6 +10,7 @@
 #include "artemis/core/point_cloud.hpp"
 #include "artemis/core/transform.hpp"
 #include "artemis/mapping/incremental_mesher.hpp"
+#include "artemis/mapping/semantic_fusion.hpp"
 #include "artemis/mapping/semantic_mesh.hpp"
 #include "artemis/mapping/voxel_map.hpp"
 
@@ -18,6 +19,7 @@ namespace artemis::mapping {
 struct MapperParams {
   VoxelMapParams voxels;
   MesherParams mesher;
+  SemanticFusionParams semantics;
   // A voxel is first meshed once it holds first_mesh_points, then re-meshed once its points grew
   // by remesh_growth (and by at least remesh_min_new) since it was last meshed; finish() meshes
   // whatever is still pending, so the final mesh does not depend on these. On KITTI drive 0013
@@ -32,10 +34,18 @@ struct MapperParams {
 struct FrameStats {
   double insert_ms = 0.0;
   double mesh_ms = 0.0;
+  double fuse_ms = 0.0;           // semantic fusion (1b), when the frame came with an observation
   std::size_t points = 0;         // points given
   std::size_t points_kept = 0;    // new mesh vertices
   std::size_t active_voxels = 0;  // voxels that gained points
   std::size_t meshed_voxels = 0;  // voxels re-meshed this frame
+  std::size_t semantic_observations = 0;
+};
+
+// A frame's segmented camera view, for semantic fusion.
+struct SemanticInput {
+  const CameraView* view = nullptr;
+  const semantics::SemanticObservation* observation = nullptr;
 };
 
 class Mapper {
@@ -45,7 +55,11 @@ class Mapper {
   Mapper(const Mapper&) = delete;
   Mapper& operator=(const Mapper&) = delete;
 
-  FrameStats integrate(const PointCloud& points_L, const Isometry3d& T_W_L);
+  // With `semantic`, the observation is fused into the cells of the frame's points (1b) after they
+  // are inserted (1a) and before meshing (1c).
+  FrameStats integrate(const PointCloud& points_L, const Isometry3d& T_W_L, const SemanticInput* semantic = nullptr);
+  // Gives `cls` a semantic slot (a class newly prompted); see SemanticMesh::addSemanticClass.
+  void addSemanticClass(semantics::ClassId cls) { mesh_.addSemanticClass(cls); }
   // Meshes every voxel with points added since it was last meshed. Returns how many.
   std::size_t finish();
 
@@ -60,6 +74,7 @@ class Mapper {
   VoxelMap map_;
   SemanticMesh mesh_;
   IncrementalMesher mesher_;
+  SemanticFusion fusion_;
   std::vector<Eigen::Vector3f> points_W_;
   struct Arena;
   std::unique_ptr<Arena> arena_;

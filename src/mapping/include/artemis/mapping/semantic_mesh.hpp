@@ -2,8 +2,18 @@
 // The Living Map's mesh: vertices (the points the voxel map kept) with their normal, voxel of
 // origin and viewing direction, and faces grouped by the voxel that owns them, so that re-meshing
 // a voxel replaces exactly its faces. A change log says which voxels changed in the current frame
-// (for the viewer and incremental exports). Later stages add per-vertex colour and class
-// distributions beside these arrays.
+// (for the viewer and incremental exports).
+//
+// Semantics (eq. 1, 7): evidence is kept at two scales, both as accumulated observation weight per
+// "slot" (slot 0: none of the prompted classes; slot s >= 1: the s-th class prompted in this run)
+// and their sum W_sem:
+//   - per voxel (the meshing voxel, 0.4 m): the paper's voxel distribution, evidence / W_sem;
+//   - per vertex: the evidence of the vertex's own cell (the sub-cell it holds, 0.1 m).
+// A vertex's distribution is its cell's evidence plus its voxel's distribution weighted by
+// voxel_prior: the voxel's as it inherits it (eq. 7) wherever its own cell was never seen by the
+// camera, sharpened by the cell's evidence wherever it was. Its confidence is eq. 7 with its
+// voxel's W_sem. Slots, rather than the whole vocabulary, keep this at (1 + prompted classes)
+// floats per vertex and per voxel.
 
 #include <array>
 #include <cstdint>
@@ -13,6 +23,7 @@
 #include <Eigen/Core>
 
 #include "artemis/mapping/voxel_key.hpp"
+#include "artemis/semantics/vocabulary.hpp"
 
 namespace artemis::mapping {
 
@@ -28,7 +39,9 @@ class SemanticMesh {
   // Unit direction from the vertex towards the sensor that first saw it.
   [[nodiscard]] const std::vector<Eigen::Vector3f>& viewDirections() const { return views_; }
 
-  std::uint32_t addVertex(const Eigen::Vector3f& p_W, const VoxelKey& voxel, const Eigen::Vector3f& to_sensor);
+  // `voxel_index` numbers the voxel densely (VoxelMap's index): it keys the voxel's semantics.
+  std::uint32_t addVertex(const Eigen::Vector3f& p_W, const VoxelKey& voxel, const Eigen::Vector3f& to_sensor,
+                          std::uint32_t voxel_index = 0);
   void setNormal(std::uint32_t vertex, const Eigen::Vector3f& normal) { normals_[vertex] = normal; }
 
   // Replaces the faces owned by `voxel` and logs the change.
@@ -37,6 +50,35 @@ class SemanticMesh {
   [[nodiscard]] std::size_t faceCount() const { return face_count_; }
   // Every face, voxel by voxel in key order (deterministic).
   [[nodiscard]] std::vector<Face> faces() const;
+
+  // Semantic slots: slot -> class (slot 0 is kNoClass). Adding a class adds a slot with no evidence
+  // to every vertex; a class already present keeps its slot. Returns the class's slot.
+  std::size_t addSemanticClass(semantics::ClassId cls);
+  [[nodiscard]] const std::vector<semantics::ClassId>& semanticSlots() const { return slots_; }
+  [[nodiscard]] std::size_t slotCount() const { return slots_.size(); }
+  // Slot of `cls`, or -1 when it has none.
+  [[nodiscard]] int slotOf(semantics::ClassId cls) const;
+  // Evidence of vertex v's cell per slot (slotCount() values), or nullptr for a cell never
+  // observed; valid until vertices or classes are added. Its W_sem, 0 when never observed.
+  [[nodiscard]] const float* classEvidence(std::uint32_t v) const {
+    return v < semantic_weight_.size() ? &evidence_[static_cast<std::size_t>(v) * slots_.size()] : nullptr;
+  }
+  [[nodiscard]] float semanticWeight(std::uint32_t v) const {
+    return v < semantic_weight_.size() ? semantic_weight_[v] : 0.0f;
+  }
+  // W_sem of vertex v's voxel.
+  [[nodiscard]] float voxelSemanticWeight(std::uint32_t v) const;
+  // Adds an observation of weight `w` for `slot` to vertex v's cell and to its voxel.
+  void observe(std::uint32_t v, std::size_t slot, float w);
+  // Weight of the voxel's distribution in a vertex's (see above); > 0.
+  void setVoxelPrior(float weight) { voxel_prior_ = weight; }
+  // Vertex v's distribution over the slots (slotCount() values, summing to 1), or false when
+  // neither its cell nor its voxel was ever observed.
+  bool distribution(std::uint32_t v, float* out) const;
+  // The slot with the highest probability (kNoClass when never observed; ties go to the lower slot).
+  [[nodiscard]] semantics::ClassId vertexClass(std::uint32_t v) const;
+  // eq. 7: xi = 1 - exp(-lambda W_sem(voxel of v)).
+  [[nodiscard]] float confidence(std::uint32_t v, double lambda) const;
 
   // The frame's change log: voxels whose faces were replaced, and face counts added and removed.
   struct Changes {
@@ -59,6 +101,13 @@ class SemanticMesh {
   std::vector<Eigen::Vector3f> normals_;
   std::vector<VoxelKey> voxels_;
   std::vector<Eigen::Vector3f> views_;
+  std::vector<semantics::ClassId> slots_{semantics::kNoClass};
+  std::vector<float> evidence_;             // vertex-major, slotCount() per vertex observed so far
+  std::vector<float> semantic_weight_;      // W_sem per vertex; grows to the highest vertex observed
+  std::vector<std::uint32_t> voxel_index_;  // per vertex
+  std::vector<float> voxel_evidence_;       // voxel-major, slotCount() per voxel
+  std::vector<float> voxel_weight_;         // W_sem per voxel
+  float voxel_prior_ = 10.0f;
   std::unordered_map<VoxelKey, std::vector<Face>, VoxelKeyHash> faces_;
   std::size_t face_count_ = 0;
   Changes changes_;

@@ -26,8 +26,9 @@ struct VoxelMapParams {
 };
 
 struct Voxel {
-  std::vector<std::uint32_t> vertices;  // mesh vertex ids of the kept points
-  std::vector<Eigen::Vector3f> points;  // their positions, kept here too for cache-friendly meshing
+  std::vector<std::uint32_t> vertices;   // mesh vertex ids of the kept points
+  std::vector<Eigen::Vector3f> points;   // their positions, kept here too for cache-friendly meshing
+  std::vector<std::uint16_t> sub_cells;  // their sub-cells (x * n + y) * n + z
   Eigen::Vector3f lo = Eigen::Vector3f::Constant(std::numeric_limits<float>::max());  // bounds of points
   Eigen::Vector3f hi = Eigen::Vector3f::Constant(std::numeric_limits<float>::lowest());
   std::array<std::uint64_t, 8> occupied{};  // one bit per sub-cell (8^3 = 512)
@@ -44,6 +45,12 @@ class VoxelMap {
   // Returns the keys of voxels that gained points, in order of first gain (deterministic).
   std::vector<VoxelKey> insert(const std::vector<Eigen::Vector3f>& points_W, const Eigen::Vector3f& sensor_W,
                                SemanticMesh& mesh);
+  // The vertex holding the sub-cell p_W falls in, or kNoVertex when that sub-cell is empty.
+  [[nodiscard]] std::uint32_t vertexAt(const Eigen::Vector3f& p_W) const;
+  // The vertex holding the sub-cell of point i of the last insert() (the point itself, or the one
+  // that was there before), or kNoVertex for a refused point. Valid until the next insert().
+  [[nodiscard]] std::uint32_t insertedVertex(std::size_t i) const;
+  static constexpr std::uint32_t kNoVertex = std::numeric_limits<std::uint32_t>::max();
 
   [[nodiscard]] const Voxel* find(const VoxelKey& key) const;
   Voxel* find(const VoxelKey& key);
@@ -63,6 +70,8 @@ class VoxelMap {
   static std::uint64_t hashOf(const VoxelKey& key);
   [[nodiscard]] std::size_t slotOf(const VoxelKey& key) const;
   std::uint32_t findOrAdd(const VoxelKey& key, std::uint64_t hash);
+  // Sub-cell of p_W within voxel `key`, clamped against rounding at the voxel's far faces.
+  [[nodiscard]] int subCellOf(const Eigen::Vector3f& p_W, const VoxelKey& key) const;
   void grow();
 
   VoxelMapParams params_;
@@ -76,7 +85,8 @@ class VoxelMap {
   struct Prepared {
     VoxelKey key;
     std::uint64_t hash = 0;
-    int sub_cell = -1;  // -1: point refused
+    int sub_cell = -1;        // -1: point refused
+    std::uint32_t voxel = 0;  // index into voxels_, once inserted
   };
   std::vector<Prepared> prepared_;  // per-frame scratch of insert()
 };

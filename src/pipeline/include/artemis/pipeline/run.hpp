@@ -1,6 +1,12 @@
 #pragma once
 // `artemis run`: reads a recording frame by frame, builds the Living Map, and writes
-//   <out>/mesh.ply        binary PLY: float x y z, float nx ny nz (towards the sensor), faces
+//   <out>/mesh.ply        binary PLY: float x y z, float nx ny nz (towards the sensor), faces; with
+//                         semantics also uchar class_id (vocabulary id, 0: none of the prompted
+//                         classes or never observed), float confidence (xi of eq. 7) and, when
+//                         asked, float prob_<class> per prompted class and prob_none
+//   <out>/mesh_classes.ply   with semantics: the same mesh coloured by class (uchar red green blue)
+//   <out>/semantics.json  with semantics: {"vocabulary": {...}, "prompted": [ids], "queries": [...],
+//                         "segmenter": name, "frames_observed", "frames_unobserved", "fusion": {...}}
 //   <out>/trajectory.txt  T_W_L of every frame of the range (registered where pose refinement is
 //                         on), 12 numbers a line (row-major 3x4)
 //   <out>/registration.json  with pose refinement: per frame, what ICP did (see registrationJson)
@@ -18,8 +24,22 @@
 #include "artemis/mapping/mapper.hpp"
 #include "artemis/pipeline/timing.hpp"
 #include "artemis/registration/odometry.hpp"
+#include "artemis/semantics/active_brush.hpp"
+#include "artemis/semantics/segmenter.hpp"
+#include "artemis/semantics/vocabulary.hpp"
 
 namespace artemis::pipeline {
+
+// Semantics: every frame's camera image is segmented with the brush's prompts and fused into the
+// map. The objects pointed to must outlive the run; segmenter == nullptr switches semantics off.
+struct SemanticRunParams {
+  semantics::Segmenter* segmenter = nullptr;
+  semantics::ActiveBrush* brush = nullptr;
+  const semantics::Vocabulary* vocabulary = nullptr;
+  std::string camera = "image_02";  // the segmented camera; the frame's first camera if it has none by that name
+  bool write_distribution = false;  // prob_<class> per vertex in mesh.ply
+  std::string segmenter_settings_json = "{}";  // recorded in semantics.json
+};
 
 struct RunParams {
   mapping::MapperParams mapper;
@@ -32,6 +52,7 @@ struct RunParams {
   // Motion compensation of each sweep from the motion estimate (prior motion since the last frame);
   // only for recordings with sweep start and end stamps.
   bool deskew = false;
+  SemanticRunParams semantics;
 };
 
 struct RunReport {
@@ -39,13 +60,18 @@ struct RunReport {
   std::size_t frames_failed = 0;  // unreadable frames, logged and skipped
   std::size_t vertices = 0;
   std::size_t faces = 0;
-  StageTimes times;  // stages "read", ["register",] "insert", "mesh", "total" per frame
+  StageTimes times;  // stages "read", ["register",] ["segment",] "insert", ["fuse",] "mesh", "total" per frame
   double finish_ms = 0.0;
   double peak_rss_mb = 0.0;
   std::vector<registration::FrameRegistration> registrations;  // one per mapped frame, with refinement
   std::vector<std::size_t> registered_frames;                  // their recording indices
   std::size_t registration_fallbacks = 0;                      // frames whose prior pose was kept
   std::size_t degenerate_frames = 0;                           // frames registered with a degenerate direction
+  // With semantics: frames whose image was segmented and fused, and frames without an observation
+  // (no image, no mask file, a segmenter error; each logged).
+  std::size_t frames_observed = 0;
+  std::size_t frames_unobserved = 0;
+  std::size_t vertices_labelled = 0;  // mesh vertices with a class
 };
 
 using ProgressFn = std::function<void(std::size_t done, std::size_t total)>;
@@ -54,11 +80,24 @@ using ProgressFn = std::function<void(std::size_t done, std::size_t total)>;
 Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& params, const std::filesystem::path& out,
                               const std::string& config_json, const ProgressFn& progress = {});
 
-// mesh.ply of a mapper's mesh (only the vertices faces use).
-Status writeMeshPly(const mapping::SemanticMesh& mesh, const std::filesystem::path& path);
+// mesh.ply of a mapper's mesh (only the vertices faces use). With `semantics` (a mesh with prompted
+// classes), the per-vertex class_id and confidence (and prob_* with `distribution`).
+struct SemanticPlyOptions {
+  const semantics::Vocabulary* vocabulary = nullptr;
+  double confidence_lambda = 0.5;
+  bool distribution = false;
+};
+Status writeMeshPly(const mapping::SemanticMesh& mesh, const std::filesystem::path& path,
+                    const SemanticPlyOptions* semantics = nullptr);
+// mesh_classes.ply: the mesh coloured by vertex class (grey where none).
+Status writeClassColouredPly(const mapping::SemanticMesh& mesh, const semantics::Vocabulary& vocabulary,
+                             const std::filesystem::path& path);
 
 // timing.json text of a report.
 std::string timingJson(const RunReport& report);
+
+// semantics.json text of a run with semantics.
+std::string semanticsJson(const RunReport& report, const RunParams& params);
 
 // registration.json text: {"frames": [{"frame", "fallback", "reason", "iterations",
 // "correspondences", "rms_m", "correction_m", "correction_deg", "first_distance_m",

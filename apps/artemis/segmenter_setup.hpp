@@ -1,0 +1,36 @@
+#pragma once
+// The segmenter of `artemis run --segmenter`, built from its settings; `artemis eval semantics
+// --masks-alone` rebuilds the same one from the run's semantics.json.
+
+#include <cstdint>
+#include <filesystem>
+#include <memory>
+#include <string>
+
+#include "artemis/core/status.hpp"
+#include "artemis/semantics/query_grounder.hpp"
+#include "artemis/semantics/segmenter.hpp"
+
+namespace artemis::cli {
+
+struct SegmenterChoice {
+  std::string kind;                // "sim" or "maskfile"
+  std::string noise = "standard";  // sim
+  std::uint64_t seed = 1;          // sim
+  std::string sim_gt;              // sim: empty = found beside the recording
+  std::string masks;               // maskfile
+};
+
+// Builds the segmenter for a recording in `dataset_root`; a mask file's phrases go through
+// `grounder` (which must outlive the segmenter). `settings_json` receives the settings that
+// rebuild it (for semantics.json).
+Result<std::unique_ptr<semantics::Segmenter>> makeSegmenter(const SegmenterChoice& choice,
+                                                            const semantics::Vocabulary& vocabulary,
+                                                            const semantics::QueryGrounder* grounder,
+                                                            const std::filesystem::path& dataset_root,
+                                                            std::string* settings_json);
+
+// The choice recorded in a run's semantics.json ("segmenter", "segmenter_settings").
+Result<SegmenterChoice> segmenterChoiceFromJson(const std::string& semantics_json, const std::string& origin);
+
+}  // namespace artemis::cli

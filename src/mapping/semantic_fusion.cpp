@@ -1,0 +1,100 @@
+#include "artemis/mapping/semantic_fusion.hpp"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+#include "artemis/core/timer.hpp"
+#include "artemis/mapping/voxel_map.hpp"
+
+namespace artemis::mapping {
+
+SemanticFusion::SemanticFusion(const SemanticFusionParams& params) : params_(params) {
+  if (!(params.sigma_depth_m > 0.0) || params.depth_window_px < 0 || params.depth_window_px > 32 ||
+      !(params.background_score >= 0.0 && params.background_score <= 1.0) || !(params.confidence_lambda > 0.0) ||
+      !(params.voxel_prior > 0.0)) {
+    throw std::invalid_argument(
+        "semantic fusion: sigma_depth_m, confidence_lambda and voxel_prior must be > 0, depth_window_px in 0..32 "
+        "and background_score in [0, 1] (got " +
+        std::to_string(params.sigma_depth_m) + ", " + std::to_string(params.confidence_lambda) + ", " +
+        std::to_string(params.depth_window_px) + ", " + std::to_string(params.background_score) + ")");
+  }
+}
+
+FusionStats SemanticFusion::fuse(const PointCloud& points_L, const VoxelMap& map, const Isometry3d& T_W_L,
+                                 const CameraView& view, const semantics::SemanticObservation& observation,
+                                 SemanticMesh& mesh) {
+  Stopwatch clock;
+  FusionStats stats;
+  if (!observation.observed || observation.mask_ids.empty()) return stats;
+  const int w = observation.mask_ids.width();
+  const int h = observation.mask_ids.height();
+  // Projection into the image, in single precision (pixel centres at integer coordinates): the
+  // point's pixel and depth; points behind the camera or outside the mask image are left out.
+  const Isometry3d T_C_L = view.T_L_C.inverse();
+  const Eigen::Matrix3f R_C_L = T_C_L.linear().cast<float>();
+  const Eigen::Vector3f t_C_L = T_C_L.translation().cast<float>();
+  const auto fx = static_cast<float>(view.camera.fx_px);
+  const auto fy = static_cast<float>(view.camera.fy_px);
+  const auto cx = static_cast<float>(view.camera.cx_px);
+  const auto cy = static_cast<float>(view.camera.cy_px);
+  constexpr float kFar = std::numeric_limits<float>::max();
+  depth_.assign(static_cast<std::size_t>(w) * static_cast<std::size_t>(h), kFar);
+  projected_.clear();
+  for (std::size_t i = 0; i < points_L.size(); ++i) {
+    const Eigen::Vector3f p_C = R_C_L * points_L.points[i] + t_C_L;
+    if (!(p_C.z() > static_cast<float>(PinholeCamera::kMinDepthM))) continue;
+    const float u = fx * p_C.x() / p_C.z() + cx;
+    const float v = fy * p_C.y() / p_C.z() + cy;
+    if (!(u >= -0.5f && v >= -0.5f && u < static_cast<float>(w) - 0.5f && v < static_cast<float>(h) - 0.5f)) continue;
+    const auto pixel = static_cast<std::size_t>(std::floor(v + 0.5f)) * static_cast<std::size_t>(w) +
+                       static_cast<std::size_t>(std::floor(u + 0.5f));
+    projected_.push_back({static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(pixel), p_C.z()});
+    depth_[pixel] = std::min(depth_[pixel], p_C.z());
+  }
+  stats.points_in_image = projected_.size();
+
+  // Slot of each mask's class, and of the background.
+  std::vector<int> mask_slot(observation.masks.size() + 1, 0);
+  for (std::size_t m = 0; m < observation.masks.size(); ++m) {
+    const int s = mesh.slotOf(observation.masks[m].class_id);
+    if (s < 0) throw std::logic_error("semantic fusion: a mask's class has no slot in the mesh");
+    mask_slot[m + 1] = s;
+  }
+
+  const Isometry3d T_W_C = T_W_L * view.T_L_C;
+  const Eigen::Vector3f camera_W = T_W_C.translation().cast<float>();
+  const Eigen::Matrix3f R_W_L = T_W_L.linear().cast<float>();
+  const Eigen::Vector3f t_W_L = T_W_L.translation().cast<float>();
+  const int r = params_.depth_window_px;
+  const auto inv_sigma_d = static_cast<float>(1.0 / params_.sigma_depth_m);
+  const auto background = static_cast<float>(params_.background_score);
+  // In scan order, one point after the other: points sharing a cell add up in a fixed order.
+  for (const Projected& q : projected_) {
+    const std::uint32_t vertex = map.insertedVertex(q.index);
+    if (vertex == VoxelMap::kNoVertex) continue;  // a point the map refused
+    const int u = static_cast<int>(q.pixel % static_cast<std::uint32_t>(w));
+    const int v = static_cast<int>(q.pixel / static_cast<std::uint32_t>(w));
+    float nearest = kFar;
+    for (int y = std::max(0, v - r); y <= std::min(h - 1, v + r); ++y) {
+      const float* row = &depth_[static_cast<std::size_t>(y) * static_cast<std::size_t>(w)];
+      for (int x = std::max(0, u - r); x <= std::min(w - 1, u + r); ++x) nearest = std::min(nearest, row[x]);
+    }
+    const float d_depth = q.depth - nearest;  // >= 0: the point itself is in the window
+    const std::uint16_t id = observation.mask_ids.at(u, v);
+    const float score = id == 0 ? background : observation.masks[id - 1].score;
+    const Eigen::Vector3f p_W = R_W_L * points_L.points[q.index] + t_W_L;
+    const Eigen::Vector3f ray = (p_W - camera_W).normalized();
+    const float cos_view = std::abs(ray.dot(mesh.normals()[vertex]));
+    const float omega = score * cos_view * std::exp(-d_depth * inv_sigma_d);
+    if (!(omega > 0.0f)) continue;
+    mesh.observe(vertex, static_cast<std::size_t>(mask_slot[id]), omega);
+    ++stats.observations;
+  }
+  stats.ms = clock.elapsedMs();
+  return stats;
+}
+
+}  // namespace artemis::mapping
