@@ -1,5 +1,5 @@
-// artemis eval mesh (later: eval semantics, eval texture): scores written results against
-// references. The evaluators read files, never the mapper's internals.
+// artemis eval mesh, trajectory and semantics (in eval_semantics.cpp; later: eval texture): scores
+// written results against references. The evaluators read files, never the mapper's internals.
 #include <fmt/format.h>
 
 #include <fstream>
@@ -231,8 +231,11 @@ int runTrajectoryEval(const TrajectoryEvalFlags& flags) {
 
 }  // namespace
 
+void addEvalSemanticsCommand(CLI::App& eval, int& exit_code);  // eval_semantics.cpp
+
 void addEvalCommands(CLI::App& app, int& exit_code) {
-  auto* eval = app.add_subcommand("eval", "Score results against references (geometry; later semantics, texture)");
+  auto* eval =
+      app.add_subcommand("eval", "Score results against references (geometry, trajectory, semantics; later texture)");
   eval->require_subcommand(1);
 
   auto flags = std::make_shared<MeshEvalFlags>();
@@ -271,6 +274,8 @@ void addEvalCommands(CLI::App& app, int& exit_code) {
   traj->add_option("--window", tflags->windows, "Window lengths in frames")->capture_default_str()->expected(1, -1);
   traj->add_option("--json", tflags->json, "Also write the figures to this JSON file");
   traj->callback([tflags, &exit_code] { exit_code = runTrajectoryEval(*tflags); });
+
+  addEvalSemanticsCommand(*eval, exit_code);
 }
 
 }  // namespace artemis::cli

@@ -59,8 +59,12 @@ class KittiOdometryDataset final : public Dataset {
     auto scan = readVelodyneBin(frame.scan_path);
     if (!scan) return scan.status();
     frame.points_L = std::move(scan.value());
-    if (has_labels_) {
-      auto labels = readLabelFile(dir / "labels" / (stems_[index] + ".label"), frame.points_L.size());
+    // A frame whose label file is absent comes without labels (labels empty); one that is there
+    // must hold one label per point of the raw scan.
+    const fs::path label_path = dir / "labels" / (stems_[index] + ".label");
+    std::error_code ec;
+    if (has_labels_ && fs::exists(label_path, ec)) {
+      auto labels = readLabelFile(label_path, frame.points_L.size());
       if (!labels) return labels.status();
       frame.points_L.labels = std::move(labels.value());
     }

@@ -1,0 +1,497 @@
+// artemis eval semantics: per-class IoU of a run's semantic mesh against labelled LiDAR scans
+// (DESIGN.md, "How results are measured"). The run folder gives the mesh (mesh.ply with a per-vertex
+// class_id), the classes (semantics.json: the vocabulary and the prompted class ids), the poses
+// (trajectory.txt) and the frame range (config.json); --labels gives the scans and their labels.
+#include <fmt/format.h>
+#include <CLI/CLI.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <nlohmann/json.hpp>
+#include <sstream>
+
+#include "artemis/core/log.hpp"
+#include "artemis/core/projection.hpp"
+#include "artemis/core/timer.hpp"
+#include "artemis/datasets/dataset.hpp"
+#include "artemis/datasets/pose_file.hpp"
+#include "artemis/eval/semantics.hpp"
+#include "artemis/io/file.hpp"
+#include "artemis/io/ply.hpp"
+#include "artemis/semantics/vocabulary.hpp"
+#include "progress.hpp"
+#include "segmenter_setup.hpp"
+
+namespace artemis::cli {
+namespace {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::ordered_json;
+
+struct SemanticsEvalFlags {
+  std::string run;
+  std::string labels;
+  std::string json;
+  std::string sequence;  // empty: the run's, else "00"
+  double max_distance_m = 0.3;
+  double min_range_m = datasets::DatasetOptions{}.min_range_m;
+  double max_range_m = datasets::DatasetOptions{}.max_range_m;
+  bool masks_alone = false;
+};
+
+Result<nlohmann::json> readJsonFile(const fs::path& path, const std::string& missing_hint) {
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) return notFound(fmt::format("{}: not found{}", path.string(), missing_hint));
+  std::ifstream in(path);
+  if (!in) return ioError(fmt::format("{}: cannot be read", path.string()));
+  std::stringstream text;
+  text << in.rdbuf();
+  try {
+    return nlohmann::json::parse(text.str());
+  } catch (const nlohmann::json::exception& e) {
+    return parseError(fmt::format("{}: not valid JSON: {}", path.string(), e.what()));
+  }
+}
+
+// What the run was asked for: its vocabulary and the prompted classes, which are the ones scored.
+struct RunClasses {
+  semantics::Vocabulary vocabulary;
+  std::vector<eval::EvaluatedClass> evaluated;
+};
+
+Result<RunClasses> readRunClasses(const fs::path& path) {
+  auto j = readJsonFile(path, "; the run has no semantics (make it with artemis run --query)");
+  if (!j) return j.status();
+  const std::string file = path.string();
+  if (!j->is_object() || !j->contains("vocabulary") || !(*j)["vocabulary"].is_object()) {
+    return parseError(file + ": no \"vocabulary\" object");
+  }
+  auto vocabulary = semantics::Vocabulary::parse((*j)["vocabulary"].dump(), file);
+  if (!vocabulary) return vocabulary.status();
+  if (!j->contains("prompted") || !(*j)["prompted"].is_array()) return parseError(file + ": no \"prompted\" array");
+  RunClasses out{std::move(*vocabulary), {}};
+  for (const auto& id_json : (*j)["prompted"]) {
+    if (!id_json.is_number_integer())
+      return parseError(fmt::format("{}: prompted id {} is not an integer", file, id_json.dump()));
+    const auto id = id_json.get<long long>();
+    const semantics::SemanticClass* cls =
+        id > 0 && id <= semantics::kMaxClasses ? out.vocabulary.find(static_cast<semantics::ClassId>(id)) : nullptr;
+    if (cls == nullptr) return parseError(fmt::format("{}: prompted class {} is not in the vocabulary", file, id));
+    const bool seen = std::any_of(out.evaluated.begin(), out.evaluated.end(),
+                                  [&](const eval::EvaluatedClass& c) { return c.id == cls->id; });
+    if (!seen) out.evaluated.push_back({cls->id, cls->name});
+  }
+  if (out.evaluated.empty()) return parseError(file + ": no prompted class, nothing to score");
+  return out;
+}
+
+struct MeshClasses {
+  std::vector<Eigen::Vector3f> vertices;
+  std::vector<eval::SemanticId> classes;
+};
+
+Result<MeshClasses> readMeshClasses(const fs::path& path) {
+  const std::string file = path.string();
+  auto ply = io::readPly(path);
+  if (!ply) return ply.status();
+  if (ply->find("vertex") == nullptr) return parseError(file + ": no 'vertex' element");
+  const io::PlyProperty* class_id = ply->find("vertex")->find("class_id");
+  if (class_id == nullptr || class_id->is_list) {
+    return parseError(file + ": has no class_id: run with --query (a mesh without semantics cannot be scored)");
+  }
+  std::array<std::vector<float>, 3> xyz;
+  for (std::size_t axis = 0; axis < 3; ++axis) {
+    auto column = ply->scalarAs<float>("vertex", std::array{"x", "y", "z"}[axis]);
+    if (!column) return Status(column.status().code(), file + ": " + column.status().message());
+    xyz[axis] = std::move(*column);
+  }
+  auto ids = ply->scalarAs<std::int32_t>("vertex", "class_id");
+  if (!ids) return Status(ids.status().code(), file + ": " + ids.status().message());
+  MeshClasses mesh;
+  mesh.vertices.resize(xyz[0].size());
+  mesh.classes.resize(xyz[0].size());
+  for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
+    const std::int32_t id = (*ids)[i];
+    if (id < 0 || id > semantics::kMaxClasses) {
+      return parseError(
+          fmt::format("{}: vertex {} has class_id {}, expected 0..{}", file, i, id, semantics::kMaxClasses));
+    }
+    mesh.vertices[i] = {xyz[0][i], xyz[1][i], xyz[2][i]};
+    mesh.classes[i] = static_cast<eval::SemanticId>(id);
+  }
+  return mesh;
+}
+
+// The part of the run's config.json that decides which points it mapped.
+struct RunRecording {
+  datasets::FrameRange frames;
+  bool vertical_correction = false;
+  std::string sequence;  // "NN" when the run read a sequences/NN folder
+};
+
+Result<RunRecording> readRunRecording(const fs::path& path) {
+  auto j = readJsonFile(path, "; needed for the run's frame range");
+  if (!j) return j.status();
+  const std::string file = path.string();
+  RunRecording out;
+  if (!j->is_object() || !j->contains("dataset") || !(*j)["dataset"].is_object()) {
+    return parseError(file + ": no \"dataset\" object");
+  }
+  const auto& d = (*j)["dataset"];
+  if (d.contains("frames")) {
+    if (!d["frames"].is_string()) return parseError(file + ": dataset.frames is not a text");
+    const auto text = d["frames"].get<std::string>();
+    if (text != "all") {
+      auto range = datasets::FrameRange::parse(text);
+      if (!range) return parseError(fmt::format("{}: dataset.frames: {}", file, range.status().message()));
+      out.frames = *range;
+    }
+  }
+  if (d.contains("vertical_correction") && d["vertical_correction"].is_boolean()) {
+    out.vertical_correction = d["vertical_correction"].get<bool>();
+  }
+  if (d.contains("path") && d["path"].is_string()) {
+    const fs::path dataset_path(d["path"].get<std::string>());
+    if (dataset_path.parent_path().filename() == "sequences") out.sequence = dataset_path.filename().string();
+  }
+  return out;
+}
+
+// One frame's labelled points in the world, with their truth class and whether they project into
+// the camera's image.
+struct LabelledPoints {
+  std::vector<Eigen::Vector3f> points_W;
+  std::vector<eval::SemanticId> truth;
+  std::vector<std::uint8_t> in_frustum;
+  std::vector<Eigen::Vector2i> pixel;  // in-frustum points: the pixel they project into
+};
+
+const CameraView* frustumCamera(const Frame& frame) {
+  for (const auto& view : frame.cameras) {
+    if (view.name == "image_2" || view.name == "image_02") return &view;
+  }
+  return frame.cameras.empty() ? nullptr : &frame.cameras.front();
+}
+
+LabelledPoints labelledPoints(const Frame& frame, const Isometry3d& T_W_L, const semantics::Vocabulary& vocabulary) {
+  const PointCloud& cloud = frame.points_L;
+  std::vector<std::uint8_t> inside(cloud.size(), 0);
+  std::vector<Eigen::Vector2i> pixel(cloud.size(), Eigen::Vector2i(-1, -1));
+  if (const CameraView* camera = frustumCamera(frame)) {
+    const ProjectedPoints projected = projectIntoCamera(cloud, *camera);
+    for (std::size_t k = 0; k < projected.size(); ++k) {
+      inside[projected.index[k]] = 1;
+      pixel[projected.index[k]] = Eigen::Vector2i(static_cast<int>(std::lround(projected.uv_px[k].x())),
+                                                  static_cast<int>(std::lround(projected.uv_px[k].y())));
+    }
+  }
+  const Eigen::Matrix3f R = T_W_L.linear().cast<float>();
+  const Eigen::Vector3f t = T_W_L.translation().cast<float>();
+  LabelledPoints out;
+  for (std::size_t i = 0; i < cloud.size(); ++i) {
+    const semantics::ClassId truth = vocabulary.classOfLabel(static_cast<std::uint16_t>(cloud.labels[i] & 0xFFFFU));
+    if (truth == semantics::kNoClass) continue;  // unlabelled and ignored classes: not scored
+    out.points_W.push_back(R * cloud.points[i] + t);
+    out.truth.push_back(truth);
+    out.in_frustum.push_back(inside[i]);
+    out.pixel.push_back(pixel[i]);
+  }
+  return out;
+}
+
+struct FrameTally {
+  std::size_t scored = 0;
+  std::size_t without_labels = 0;
+  std::size_t unreadable = 0;
+  [[nodiscard]] std::size_t skipped() const { return without_labels + unreadable; }
+};
+
+Json confusionJson(const eval::SemanticScore& s) {
+  const eval::ConfusionMatrix& m = s.confusion;
+  Json rows = Json::array();
+  Json columns = Json::array();
+  for (const auto& c : s.classes) {
+    rows.push_back(c.name);
+    columns.push_back(c.name);
+  }
+  rows.push_back("other");
+  columns.push_back("none");
+  columns.push_back("missed");
+  Json counts = Json::array();
+  for (std::size_t r = 0; r < m.rows(); ++r) {
+    Json row = Json::array();
+    for (std::size_t c = 0; c < m.columns(); ++c) row.push_back(m.at(r, c));
+    counts.push_back(std::move(row));
+  }
+  return {{"rows", rows}, {"columns", columns}, {"counts", counts}};
+}
+
+Json scoreJson(const eval::SemanticScore& s) {
+  Json iou = Json::object();
+  Json classes = Json::array();
+  for (const auto& c : s.classes) {
+    iou[c.name] = c.present ? Json(c.iou) : Json(nullptr);
+    classes.push_back({{"id", c.id},
+                       {"name", c.name},
+                       {"iou", c.present ? Json(c.iou) : Json(nullptr)},
+                       {"true_positive", c.true_positive},
+                       {"false_positive", c.false_positive},
+                       {"false_negative", c.false_negative},
+                       {"points", c.truth_points}});
+  }
+  return {{"iou", iou},
+          {"miou", s.miou_classes > 0 ? Json(s.miou) : Json(nullptr)},
+          {"miou_classes", s.miou_classes},
+          {"coverage", s.points > 0 ? Json(s.coverage) : Json(nullptr)},
+          {"points", s.points},
+          {"covered", s.covered},
+          {"classes", classes},
+          {"confusion", confusionJson(s)}};
+}
+
+std::string percent(bool defined, double fraction) {
+  return defined ? fmt::format("{:.2f} %", 100.0 * fraction) : std::string("-");
+}
+
+void printTable(const eval::SemanticScore& inside, const eval::SemanticScore& all) {
+  fmt::print("{:<16} {:>15} {:>10} {:>19} {:>12}\n", "class", "IoU in frustum", "IoU all", "points in frustum",
+             "points all");
+  for (std::size_t c = 0; c < all.classes.size(); ++c) {
+    const auto& i = inside.classes[c];
+    const auto& a = all.classes[c];
+    fmt::print("{:<16} {:>15} {:>10} {:>19} {:>12}\n", a.name, percent(i.present, i.iou), percent(a.present, a.iou),
+               i.truth_points, a.truth_points);
+  }
+  const auto other = [](const eval::SemanticScore& s) { return s.confusion.rowSum(s.confusion.otherRow()); };
+  fmt::print("{:<16} {:>15} {:>10} {:>19} {:>12}\n", "(other classes)", "", "", other(inside), other(all));
+  fmt::print("{:<16} {:>15} {:>10}   over {} / {} classes present\n", "mIoU",
+             percent(inside.miou_classes > 0, inside.miou), percent(all.miou_classes > 0, all.miou),
+             inside.miou_classes, all.miou_classes);
+  fmt::print("{:<16} {:>15} {:>10} {:>19} {:>12}\n", "coverage", percent(inside.points > 0, inside.coverage),
+             percent(all.points > 0, all.coverage), inside.points, all.points);
+}
+
+int fail(const Status& status) {
+  log::error("{}", status.message());
+  return 1;
+}
+
+int runSemanticsEval(const SemanticsEvalFlags& flags) {
+  const fs::path run(flags.run);
+  std::error_code ec;
+  if (!fs::is_directory(run, ec)) return fail(notFound(fmt::format("{}: no such run folder", flags.run)));
+  if (!(flags.max_distance_m > 0.0)) {
+    return fail(invalidArgument(fmt::format("--max-distance must be > 0 m, got {}", flags.max_distance_m)));
+  }
+  auto classes = readRunClasses(run / "semantics.json");
+  if (!classes) return fail(classes.status());
+  auto recording = readRunRecording(run / "config.json");
+  if (!recording) return fail(recording.status());
+  auto trajectory = datasets::readPoseFile(run / "trajectory.txt");
+  if (!trajectory) return fail(trajectory.status());
+  const fs::path mesh_path = run / "mesh.ply";
+  auto mesh = readMeshClasses(mesh_path);
+  if (!mesh) return fail(mesh.status());
+
+  // The baseline: the run's segmenter again, each point labelled by its own frame's mask.
+  std::unique_ptr<semantics::QueryGrounder> grounder;
+  std::unique_ptr<semantics::Segmenter> segmenter;
+  std::vector<semantics::ClassId> prompts;
+  if (flags.masks_alone) {
+    auto text = readJsonFile(run / "semantics.json", "");
+    if (!text) return fail(text.status());
+    auto choice = segmenterChoiceFromJson(text->dump(), (run / "semantics.json").string());
+    if (!choice) return fail(choice.status());
+    auto g = semantics::QueryGrounder::create(classes->vocabulary);
+    if (!g) return fail(g.status());
+    grounder = std::make_unique<semantics::QueryGrounder>(std::move(*g));
+    auto seg = makeSegmenter(*choice, classes->vocabulary, grounder.get(), flags.labels, nullptr);
+    if (!seg) return fail(seg.status());
+    segmenter = std::move(*seg);
+    for (const auto& c : classes->evaluated) prompts.push_back(c.id);
+  }
+
+  datasets::DatasetOptions options;
+  options.frames = recording->frames;
+  options.min_range_m = flags.min_range_m;
+  options.max_range_m = flags.max_range_m;
+  options.vertical_angle_correction = recording->vertical_correction;
+  options.load_images = flags.masks_alone;
+  options.sequence = !flags.sequence.empty()        ? flags.sequence
+                     : !recording->sequence.empty() ? recording->sequence
+                                                    : "00";
+  auto dataset = datasets::openDataset(flags.labels, datasets::DatasetFormat::kAuto, options);
+  if (!dataset) return fail(dataset.status());
+  const datasets::Dataset& d = **dataset;
+  const fs::path labels_dir = d.root() / "labels";
+  if (d.format() != "kitti-odometry" || !fs::is_directory(labels_dir, ec)) {
+    return fail(notFound(fmt::format(
+        "{}: not found; --labels needs a KITTI odometry layout with SemanticKITTI labels (sequences/NN/labels/*.label)",
+        labels_dir.string())));
+  }
+  const std::string frames = fmt::format("{}:{}", d.firstIndex(), d.firstIndex() + d.size());
+  if (trajectory->size() != d.size()) {
+    return fail(
+        invalidArgument(fmt::format("{}: {} poses for the {} frames {} of {}", (run / "trajectory.txt").string(),
+                                    trajectory->size(), d.size(), frames, d.root().string())));
+  }
+  if (d.cameras().empty()) log::warn("{}: no camera; the in-frustum figures stay empty", d.root().string());
+
+  Json settings{{"run", flags.run},
+                {"labels", d.root().string()},
+                {"frames", frames},
+                {"max_distance_m", flags.max_distance_m},
+                {"min_range_m", options.min_range_m},
+                {"max_range_m", options.max_range_m},
+                {"vertical_correction", options.vertical_angle_correction}};
+  log::info("settings: {}", settings.dump());
+
+  Stopwatch clock;
+  const std::size_t mesh_vertices = mesh->vertices.size();
+  const eval::VertexClassIndex index(std::move(mesh->vertices), std::move(mesh->classes), flags.max_distance_m);
+  log::debug("{}: KD-tree over {} vertices in {:.2f} s", mesh_path.string(), index.size(), clock.elapsedS());
+
+  eval::SemanticAccumulator accumulator(classes->evaluated);
+  eval::SemanticAccumulator masks_alone(classes->evaluated);
+  std::size_t frames_without_masks = 0;
+  FrameTally tally;
+  double lookup_s = 0.0;
+  {
+    ProgressLine progress("scoring", "frames");
+    for (std::size_t i = 0; i < d.size(); ++i) {
+      auto frame = d.frame(i);
+      if (!frame) {
+        log::warn("frame {} skipped: {}", d.firstIndex() + i, frame.status().message());
+        ++tally.unreadable;
+      } else if (frame->points_L.labels.empty()) {
+        log::warn("frame {} skipped: {} not found", frame->index,
+                  (labels_dir / fs::path(frame->scan_path).filename().replace_extension(".label")).string());
+        ++tally.without_labels;
+      } else {
+        const LabelledPoints points = labelledPoints(*frame, (*trajectory)[i], classes->vocabulary);
+        Stopwatch lookup;
+        const auto predicted = index.classify(points.points_W);
+        lookup_s += lookup.elapsedS();
+        accumulator.add(points.truth, predicted, points.in_frustum);
+        if (segmenter) {
+          // Outside the image, and in a frame the segmenter could not do, the masks say nothing.
+          std::vector<eval::SemanticId> from_masks(points.truth.size(), eval::kNoSemanticClass);
+          const CameraView* camera = frustumCamera(*frame);
+          auto obs = camera != nullptr && camera->hasImage()
+                         ? segmenter->segment({frame->index, camera}, prompts)
+                         : Result<semantics::SemanticObservation>(notFound("no image"));
+          if (obs && obs->observed) {
+            for (std::size_t k = 0; k < points.truth.size(); ++k) {
+              const semantics::Mask* m =
+                  points.in_frustum[k] != 0 ? obs->maskAt(points.pixel[k].x(), points.pixel[k].y()) : nullptr;
+              if (m != nullptr) from_masks[k] = m->class_id;
+            }
+          } else {
+            log::warn("frame {}: no masks for the baseline: {}", frame->index,
+                      obs ? obs->note : obs.status().message());
+            ++frames_without_masks;
+          }
+          masks_alone.add(points.truth, from_masks, points.in_frustum);
+        }
+        ++tally.scored;
+      }
+      progress.update(i + 1, d.size());
+    }
+  }
+  if (tally.scored == 0) {
+    return fail(notFound(fmt::format("{}: no frame of {} could be scored ({} without labels, {} unreadable)",
+                                     d.root().string(), frames, tally.without_labels, tally.unreadable)));
+  }
+  const eval::SemanticScore all = accumulator.all();
+  const eval::SemanticScore inside = accumulator.inFrustum();
+  const double seconds = clock.elapsedS();
+
+  fmt::print("{}: {} vertices; {} labelled points of {} frames of {}{}\n", mesh_path.string(), mesh_vertices,
+             all.points, tally.scored, d.root().string(),
+             tally.skipped() > 0 ? fmt::format(" ({} frames skipped: {} without labels, {} unreadable)",
+                                               tally.skipped(), tally.without_labels, tally.unreadable)
+                                 : "");
+  printTable(inside, all);
+  const eval::SemanticScore masks_inside = masks_alone.inFrustum();
+  if (segmenter) {
+    fmt::print(
+        "\nper-frame masks alone (each in-frustum point labelled by the mask it projects into, no fusion; "
+        "{} segmenter{}):\n",
+        segmenter->name(),
+        frames_without_masks > 0 ? fmt::format(", {} frames without masks", frames_without_masks) : "");
+    fmt::print("{:<16} {:>15} {:>15} {:>12}\n", "class", "fused mesh", "masks alone", "difference");
+    for (std::size_t c = 0; c < inside.classes.size(); ++c) {
+      const auto& f = inside.classes[c];
+      const auto& m = masks_inside.classes[c];
+      fmt::print("{:<16} {:>15} {:>15} {:>12}\n", f.name, percent(f.present, f.iou), percent(m.present, m.iou),
+                 f.present && m.present ? fmt::format("{:+.2f}", 100.0 * (f.iou - m.iou)) : "-");
+    }
+    fmt::print("{:<16} {:>15} {:>15}\n", "mIoU", percent(inside.miou_classes > 0, inside.miou),
+               percent(masks_inside.miou_classes > 0, masks_inside.miou));
+  }
+  log::info("scored in {:.1f} s ({:.2f} s of nearest-vertex lookups, {:.2f} us a point)", seconds, lookup_s,
+            all.points > 0 ? 1e6 * lookup_s / static_cast<double>(all.points) : 0.0);
+
+  if (!flags.json.empty()) {
+    Json j;
+    j["settings"] = settings;
+    j["classes"] = Json::array();
+    for (const auto& c : classes->evaluated) j["classes"].push_back({{"id", c.id}, {"name", c.name}});
+    j["in_frustum"] = scoreJson(inside);
+    j["all"] = scoreJson(all);
+    if (segmenter)
+      j["masks_alone"] = {{"in_frustum", scoreJson(masks_inside)}, {"frames_without_masks", frames_without_masks}};
+    j["frames"] = tally.scored;
+    j["frames_skipped"] = tally.skipped();
+    j["frames_without_labels"] = tally.without_labels;
+    j["frames_unreadable"] = tally.unreadable;
+    j["mesh_vertices"] = mesh_vertices;
+    j["seconds"] = seconds;
+    const std::string text = j.dump(2) + "\n";
+    if (Status s = io::writeFileAtomic(flags.json, std::as_bytes(std::span(text.data(), text.size()))); !s.isOk()) {
+      return fail(s);
+    }
+  }
+  return 0;
+}
+
+}  // namespace
+
+void addEvalSemanticsCommand(CLI::App& eval, int& exit_code) {
+  auto flags = std::make_shared<SemanticsEvalFlags>();
+  auto* cmd = eval.add_subcommand(
+      "semantics",
+      "Per-class IoU of a run's semantic mesh: every labelled LiDAR point of the run's frames (range-gated) takes "
+      "the class of the nearest mesh vertex within --max-distance (none: missed); one confusion matrix over the "
+      "sequence, for all points and for the points inside the camera image (image_2). Classes: the run's prompted "
+      "ones; other labelled classes count as 'other', unlabelled points are ignored. The table prints IoU, mIoU and "
+      "coverage (share of labelled points with a vertex within reach) in percent; --json writes them as fractions "
+      "0..1 (null where a class is absent from truth and prediction)");
+  cmd->add_option("RUN", flags->run,
+                  "Run folder of artemis run --query: mesh.ply (with class_id), semantics.json, trajectory.txt, "
+                  "config.json")
+      ->required();
+  cmd->add_option("--labels", flags->labels,
+                  "Labelled recording: a KITTI odometry root or sequences/NN folder with labels/*.label "
+                  "(SemanticKITTI, or artemis sim's output)")
+      ->required();
+  cmd->add_option("--sequence", flags->sequence,
+                  "Sequence NN to read when --labels is the root [default: the run's, else 00]");
+  cmd->add_option("--max-distance", flags->max_distance_m, "A point farther than this from every vertex is missed (m)")
+      ->capture_default_str();
+  cmd->add_option("--min-range", flags->min_range_m, "Range gate: score no point closer than this (m)")
+      ->capture_default_str();
+  cmd->add_option("--max-range", flags->max_range_m, "Range gate: score no point farther than this (m)")
+      ->capture_default_str();
+  cmd->add_option("--json", flags->json, "Also write the scores and confusion matrices to this JSON file");
+  cmd->add_flag("--masks-alone", flags->masks_alone,
+                "Also score the per-frame masks without fusion: the run's segmenter (from semantics.json) is run "
+                "again and every in-frustum point takes the class of the mask it projects into in its own frame");
+  cmd->callback([flags, &exit_code] { exit_code = runSemanticsEval(*flags); });
+}
+
+}  // namespace artemis::cli

@@ -1,0 +1,154 @@
+// artemis run with semantics: the simulated segmenter and mask files end to end, the files a run
+// writes, and the errors and logged skips of bad input.
+#include <gtest/gtest.h>
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <fstream>
+#include <nlohmann/json.hpp>
+
+#include "artemis/io/ply.hpp"
+#include "artemis/io/png.hpp"
+#include "cli_run.hpp"
+
+namespace artemis {
+namespace {
+
+namespace fs = std::filesystem;
+using test::runCli;
+
+// Four frames of the demo street at a quarter of KITTI's azimuth resolution (quick).
+fs::path simulate(const test::TempDir& tmp) {
+  const fs::path out = tmp / "sim";
+  const auto r = runCli("sim --preset demo --frames 4 --azimuth-step 0.72 --out " + out.string());
+  EXPECT_EQ(r.exit_code, 0) << r.err;
+  return out;
+}
+
+nlohmann::json readJson(const fs::path& path) {
+  std::ifstream in(path);
+  return nlohmann::json::parse(in);
+}
+
+TEST(RunSemantics, SimulatedSegmenterWritesClassesConfidenceAndColours) {
+  test::TempDir tmp;
+  const fs::path sim = simulate(tmp);
+  const fs::path out = tmp / "run";
+  const auto r =
+      runCli("run " + sim.string() + " --query \"cars and buildings\" --segmenter sim --segmenter-noise none " +
+             "--semantic-distribution --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("semantics: 4 frames fused, 0 without an observation"), std::string::npos) << r.out;
+  auto ply = io::readPly(out / "mesh.ply");
+  ASSERT_TRUE(ply) << ply.status().message();
+  auto classes = ply->scalarAs<int>("vertex", "class_id");
+  auto confidence = ply->scalarAs<float>("vertex", "confidence");
+  auto p_car = ply->scalarAs<float>("vertex", "prob_car");
+  auto p_none = ply->scalarAs<float>("vertex", "prob_none");
+  ASSERT_TRUE(classes && confidence && p_car && p_none);
+  std::size_t car = 0, building = 0;
+  for (std::size_t i = 0; i < classes->size(); ++i) {
+    const int c = (*classes)[i];
+    ASSERT_TRUE(c == 0 || c == 1 || c == 13) << c;  // none, car, building: only the prompted classes
+    car += c == 1 ? 1 : 0;
+    building += c == 13 ? 1 : 0;
+    ASSERT_GE((*confidence)[i], 0.0f);
+    ASSERT_LT((*confidence)[i], 1.0f + 1e-6f);
+    if (c == 1) {
+      EXPECT_GE((*p_car)[i], (*p_none)[i]);
+    }
+  }
+  EXPECT_GT(car, 1000u);
+  EXPECT_GT(building, 1000u);
+  // The class-coloured copy: the same vertices, car vertices in SemanticKITTI's car colour.
+  auto coloured = io::readPly(out / "mesh_classes.ply");
+  ASSERT_TRUE(coloured);
+  auto red = coloured->scalarAs<int>("vertex", "red");
+  auto blue = coloured->scalarAs<int>("vertex", "blue");
+  ASSERT_TRUE(red && blue);
+  ASSERT_EQ(red->size(), classes->size());
+  for (std::size_t i = 0; i < classes->size(); ++i) {
+    if ((*classes)[i] == 1) {
+      ASSERT_EQ((*red)[i], 100);
+      ASSERT_EQ((*blue)[i], 245);
+    }
+  }
+  const auto sem = readJson(out / "semantics.json");
+  EXPECT_EQ(sem["prompted"], nlohmann::json::array({1, 13}));
+  EXPECT_EQ(sem["queries"][0]["text"], "cars and buildings");
+  EXPECT_EQ(sem["segmenter"], "sim");
+  EXPECT_EQ(sem["frames_observed"], 4);
+  EXPECT_EQ(sem["vocabulary"]["classes"].size(), 19u);
+  const auto timing = readJson(out / "timing.json");
+  EXPECT_TRUE(timing["stages"].contains("fuse"));
+  EXPECT_TRUE(timing["stages"].contains("segment"));
+  // The run's own scores: exact masks, but four sparse scans (the accuracy figures are in the
+  // pipeline tests' 200-frame street).
+  const auto e = runCli("eval semantics " + out.string() + " --labels " + sim.string() + " --json " +
+                        (tmp / "scores.json").string());
+  ASSERT_EQ(e.exit_code, 0) << e.err;
+  const auto scores = readJson(tmp / "scores.json");
+  EXPECT_GT(scores["in_frustum"]["iou"]["car"].get<double>(), 0.7);
+  EXPECT_GT(scores["in_frustum"]["iou"]["building"].get<double>(), 0.7);
+}
+
+TEST(RunSemantics, MaskFilesWithGapsAndBadFilesAreCountedAndLogged) {
+  test::TempDir tmp;
+  const fs::path sim = simulate(tmp);
+  // Masks for frames 0 and 1 from the simulator's own class images (a car mask per car pixel);
+  // frame 2 has a mask file with a bad score; frame 3 has none.
+  const fs::path masks = tmp / "masks";
+  fs::create_directories(masks);
+  for (int f = 0; f < 3; ++f) {
+    auto classes = io::readPng16(sim / "gt" / "semantic_2" / fmt::format("{:06d}.png", f));
+    ASSERT_TRUE(classes);
+    ImageU16 ids(classes->width(), classes->height(), 1, 0);
+    for (std::size_t i = 0; i < ids.data().size(); ++i) ids.data()[i] = classes->data()[i] == 10 ? 4 : 0;
+    ASSERT_TRUE(io::writePng(masks / fmt::format("{:06d}.png", f), ids).isOk());
+    std::ofstream(masks / fmt::format("{:06d}.json", f))
+        << (f < 2 ? R"({"masks": [{"id": 4, "text": "parked sedan", "score": 0.9}]})"
+                  : R"({"masks": [{"id": 4, "class": "car", "score": 1.5}]})");
+  }
+  const fs::path out = tmp / "run";
+  const auto r = runCli("run " + sim.string() + " --query vehicles --segmenter maskfile --masks " + masks.string() +
+                        " --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("semantics: 2 frames fused, 2 without an observation"), std::string::npos) << r.out;
+  EXPECT_NE(r.err.find("frame 2: no semantic observation"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("score 1.5 outside [0, 1]"), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("frame 3: no semantic observation: no mask file"), std::string::npos) << r.err;
+  const auto sem = readJson(out / "semantics.json");
+  EXPECT_EQ(sem["frames_observed"], 2);
+  EXPECT_EQ(sem["frames_unobserved"], 2);
+  auto ply = io::readPly(out / "mesh.ply");
+  ASSERT_TRUE(ply);
+  auto classes = ply->scalarAs<int>("vertex", "class_id");
+  ASSERT_TRUE(classes);
+  EXPECT_GT(std::count(classes->begin(), classes->end(), 1), 500);
+}
+
+TEST(RunSemantics, BadSettingsAreClearErrors) {
+  test::TempDir tmp;
+  const fs::path sim = simulate(tmp);
+  const std::string out = " --out " + (tmp / "run").string();
+  const auto expect_error = [&](const std::string& args, const std::string& message) {
+    const auto r = runCli("run " + args + out);
+    EXPECT_NE(r.exit_code, 0) << args;
+    EXPECT_NE(r.err.find(message), std::string::npos) << args << "\n" << r.err;
+  };
+  expect_error(sim.string() + " --query cars", "--query needs a segmenter");
+  expect_error(sim.string() + " --segmenter sim", "needs at least one --query");
+  expect_error(sim.string() + " --segmenter sim --query unicorns", "no class matches 'unicorns'");
+  expect_error(sim.string() + " --segmenter sim --query \"   \"", "empty");
+  expect_error(sim.string() + " --segmenter maskfile --query cars", "needs --masks");
+  expect_error(sim.string() + " --segmenter maskfile --query cars --masks " + (tmp / "nope").string(),
+               "no such mask folder");
+  expect_error(sim.string() + " --segmenter sim --query cars --segmenter-noise loud", "segmenter-noise");
+  expect_error(sim.string() + " --segmenter sim --query cars --sim-gt " + tmp.path().string(), "semantic_2");
+  expect_error(sim.string() + " --segmenter sim --query cars --vocabulary " + (tmp / "none.json").string(),
+               "none.json");
+}
+
+}  // namespace
+}  // namespace artemis
