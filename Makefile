@@ -21,6 +21,8 @@ run: build
 bench: build
 	build/bench/sim_bench
 	build/bench/mapping_bench
+	build/bench/registration_bench
+	build/bench/semantics_bench
 
 # Every test, twice: a Release build with warnings as errors (benchmarks compiled too), then an
 # ASan/UBSan build of the library and tests.

@@ -1,0 +1,129 @@
+// What semantic fusion (stage 1b) costs the mapping pipeline, on the simulated street with
+// KITTI-sized scans (~120k points) and images (1242 x 375): per frame, the mapper's time (insert,
+// fusion, meshing) with and without semantics, median and p95, and the fusion stage alone. The
+// simulated segmenter's time is printed apart (a real segmenter runs on its own, and on a GPU).
+//
+//   build/bench/semantics_bench [--frames N] [--threads N] [--noise none|standard|heavy]
+// Frames are simulated before the clock starts; both mappers see the same frames, one after the
+// other, so that machine load hits both alike.
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <cstdlib>
+#include <cstring>
+#include <filesystem>
+#include <string>
+#include <vector>
+
+#include "artemis/core/timer.hpp"
+#include "artemis/mapping/mapper.hpp"
+#include "artemis/semantics/simulated_segmenter.hpp"
+#include "artemis/sim/simulator.hpp"
+
+namespace {
+
+using namespace artemis;
+
+struct Percentiles {
+  double median = 0.0;
+  double p95 = 0.0;
+};
+
+Percentiles percentiles(std::vector<double> v) {
+  if (v.empty()) return {};
+  std::sort(v.begin(), v.end());
+  const auto at = [&](double q) {
+    return v[std::min(v.size() - 1, static_cast<std::size_t>(q * static_cast<double>(v.size() - 1) + 0.5))];
+  };
+  return {at(0.5), at(0.95)};
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int frames = 200;
+  int threads = 0;
+  std::string noise_name = "standard";
+  for (int i = 1; i + 1 < argc; i += 2) {
+    if (std::strcmp(argv[i], "--frames") == 0)
+      frames = std::atoi(argv[i + 1]);
+    else if (std::strcmp(argv[i], "--threads") == 0)
+      threads = std::atoi(argv[i + 1]);
+    else if (std::strcmp(argv[i], "--noise") == 0)
+      noise_name = argv[i + 1];
+    else {
+      fmt::print(stderr, "usage: semantics_bench [--frames N] [--threads N] [--noise none|standard|heavy]\n");
+      return 2;
+    }
+  }
+  const auto noise = semantics::noiseProfile(noise_name);
+  if (!noise || frames < 1) {
+    fmt::print(stderr, "bad settings\n");
+    return 2;
+  }
+  sim::SimParams params;
+  params.frames = frames;
+  const sim::Simulator sim(params);
+  const auto gt = std::filesystem::temp_directory_path() / "artemis_semantics_bench";
+  std::filesystem::create_directories(gt / "semantic_2");
+  std::filesystem::create_directories(gt / "instance_2");
+  auto segmenter = semantics::SimulatedSegmenter::open(gt, semantics::Vocabulary::semanticKitti(), *noise, 1);
+  if (!segmenter) return 1;
+  const std::vector<semantics::ClassId> prompts{1, 13, 15};  // car, building, vegetation
+
+  mapping::MapperParams mp;
+  mp.threads = threads;
+  mapping::Mapper plain(mp);
+  mapping::Mapper semantic(mp);
+  for (const auto c : prompts) semantic.addSemanticClass(c);
+  CameraView view;
+  view.name = "image_02";
+  view.camera = sim.camera();
+  view.T_L_C = sim.T_L_C();
+  std::vector<double> plain_ms, semantic_ms, fuse_ms, segment_ms;
+  std::vector<double> plain_insert, semantic_insert, plain_mesh, semantic_mesh;
+  std::size_t points = 0;
+  for (int k = 0; k < frames; ++k) {
+    const sim::LidarScan scan = sim.scan(k);
+    const sim::CameraImages images = sim.render(k);
+    view.image = images.rgb;
+    PointCloud cloud;
+    for (const auto& p : scan.points_L) {
+      const float r = p.head<3>().norm();
+      if (r >= 2.0f && r <= 70.0f) cloud.points.push_back(p.head<3>());
+    }
+    points += cloud.size();
+    const Isometry3d T = sim.T_W_L(k);
+    Stopwatch clock;
+    const auto obs = (*segmenter)->corrupt(images.semantic, images.instance, static_cast<std::size_t>(k), prompts);
+    segment_ms.push_back(clock.elapsedMs());
+    clock.reset();
+    const auto plain_stats = plain.integrate(cloud, T);
+    plain_ms.push_back(clock.elapsedMs());
+    plain_insert.push_back(plain_stats.insert_ms);
+    plain_mesh.push_back(plain_stats.mesh_ms);
+    clock.reset();
+    const mapping::SemanticInput input{&view, &obs};
+    const auto stats = semantic.integrate(cloud, T, &input);
+    semantic_ms.push_back(clock.elapsedMs());
+    fuse_ms.push_back(stats.fuse_ms);
+    semantic_insert.push_back(stats.insert_ms);
+    semantic_mesh.push_back(stats.mesh_ms);
+    if ((k + 1) % 50 == 0) fmt::print(stderr, "{} / {} frames\n", k + 1, frames);
+  }
+  const auto p = percentiles(plain_ms);
+  const auto s = percentiles(semantic_ms);
+  const auto f = percentiles(fuse_ms);
+  const auto g = percentiles(segment_ms);
+  fmt::print("simulated street, {} frames, {:.0f} points a frame, {} threads\n", frames,
+             static_cast<double>(points) / frames, threads == 0 ? std::string("all") : std::to_string(threads));
+  fmt::print("mapper per frame (median / p95 ms): without semantics {:.2f} / {:.2f}, with {:.2f} / {:.2f}\n", p.median,
+             p.p95, s.median, s.p95);
+  fmt::print("fusion (1b) per frame: {:.2f} / {:.2f} ms; median difference {:+.2f} ms\n", f.median, f.p95,
+             s.median - p.median);
+  fmt::print("insert (1a) {:.2f} -> {:.2f} ms, meshing (1c) {:.2f} -> {:.2f} ms (medians, without -> with)\n",
+             percentiles(plain_insert).median, percentiles(semantic_insert).median, percentiles(plain_mesh).median,
+             percentiles(semantic_mesh).median);
+  fmt::print("simulated segmentation ({} noise), apart: {:.2f} / {:.2f} ms\n", noise_name, g.median, g.p95);
+  return 0;
+}
