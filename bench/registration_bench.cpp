@@ -23,6 +23,7 @@
 #include "artemis/eval/trajectory.hpp"
 #include "artemis/registration/deskew.hpp"
 #include "artemis/registration/odometry.hpp"
+#include "bench_stats.hpp"
 
 namespace {
 
@@ -34,19 +35,7 @@ fs::path dataDir() {
   return env != nullptr && *env != '\0' ? fs::path(env) : fs::path("../shared/data");
 }
 
-struct Percentiles {
-  double median = 0.0;
-  double p95 = 0.0;
-};
-
-Percentiles percentiles(std::vector<double> v) {
-  if (v.empty()) return {};
-  std::sort(v.begin(), v.end());
-  const auto at = [&](double q) {
-    return v[std::min(v.size() - 1, static_cast<std::size_t>(q * static_cast<double>(v.size() - 1) + 0.5))];
-  };
-  return {at(0.5), at(0.95)};
-}
+using bench::percentiles;
 
 struct Recording {
   std::vector<Frame> frames;

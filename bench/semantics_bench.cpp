@@ -19,24 +19,13 @@
 #include "artemis/mapping/mapper.hpp"
 #include "artemis/semantics/simulated_segmenter.hpp"
 #include "artemis/sim/simulator.hpp"
+#include "bench_stats.hpp"
 
 namespace {
 
 using namespace artemis;
 
-struct Percentiles {
-  double median = 0.0;
-  double p95 = 0.0;
-};
-
-Percentiles percentiles(std::vector<double> v) {
-  if (v.empty()) return {};
-  std::sort(v.begin(), v.end());
-  const auto at = [&](double q) {
-    return v[std::min(v.size() - 1, static_cast<std::size_t>(q * static_cast<double>(v.size() - 1) + 0.5))];
-  };
-  return {at(0.5), at(0.95)};
-}
+using bench::percentiles;
 
 }  // namespace
 

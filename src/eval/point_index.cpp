@@ -1,6 +1,6 @@
 #include "point_index.hpp"
 
-#include <nanoflann.hpp>
+#include "cloud_kdtree.hpp"
 
 #include <cmath>
 #include <limits>
@@ -8,23 +8,6 @@
 namespace artemis::eval::detail {
 
 namespace {
-
-// nanoflann's view of a std::vector<Eigen::Vector3f>.
-struct CloudAdaptor {
-  const std::vector<Eigen::Vector3f>* points;
-
-  [[nodiscard]] std::size_t kdtree_get_point_count() const { return points->size(); }
-  [[nodiscard]] float kdtree_get_pt(std::uint32_t i, std::size_t axis) const {
-    return (*points)[i][static_cast<Eigen::Index>(axis)];
-  }
-  template <typename BBox>
-  bool kdtree_get_bbox(BBox& /*bbox*/) const {
-    return false;
-  }
-};
-
-using KdTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<float, CloudAdaptor, float>,
-                                                   CloudAdaptor, 3, std::uint32_t>;
 
 // A result set that accepts anything closer than the radius and stops the search at the first:
 // the question is only whether one exists.
@@ -75,7 +58,7 @@ struct PointIndex::Tree {
   explicit Tree(const std::vector<Eigen::Vector3f>& points)
       : adaptor{&points}, index(3, adaptor, nanoflann::KDTreeSingleIndexAdaptorParams(kLeafSize)) {}
   CloudAdaptor adaptor;
-  KdTree index;
+  CloudKdTree index;
 };
 
 PointIndex::PointIndex(const std::vector<Eigen::Vector3f>& points) : tree_(std::make_unique<Tree>(points)) {}

@@ -11,10 +11,11 @@
 
 #include "artemis/eval/semantics.hpp"
 
+#include "cloud_kdtree.hpp"
+
 #include <fmt/format.h>
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
-#include <nanoflann.hpp>
 
 #include <algorithm>
 #include <cmath>
@@ -135,22 +136,8 @@ void SemanticAccumulator::add(std::span<const SemanticId> truth, std::span<const
 
 namespace {
 
-// nanoflann's view of the vertices.
-struct VertexAdaptor {
-  const std::vector<Eigen::Vector3f>* points;
-
-  [[nodiscard]] std::size_t kdtree_get_point_count() const { return points->size(); }
-  [[nodiscard]] float kdtree_get_pt(std::uint32_t i, std::size_t axis) const {
-    return (*points)[i][static_cast<Eigen::Index>(axis)];
-  }
-  template <typename BBox>
-  bool kdtree_get_bbox(BBox& /*bbox*/) const {
-    return false;
-  }
-};
-
-using VertexTree = nanoflann::KDTreeSingleIndexAdaptor<nanoflann::L2_Simple_Adaptor<float, VertexAdaptor, float>,
-                                                       VertexAdaptor, 3, std::uint32_t>;
+using VertexAdaptor = detail::CloudAdaptor;
+using VertexTree = detail::CloudKdTree;
 
 // The nearest point closer than the initial bound. nanoflann hands a leaf's points over when they
 // beat the bound it read at the leaf's start, so addPoint compares with the best so far itself.

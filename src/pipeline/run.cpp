@@ -153,7 +153,7 @@ std::string semanticsJson(const RunReport& report, const RunParams& params) {
   j["queries"] = queries;
   j["segmenter"] = sem.segmenter->name();
   j["segmenter_settings"] = nlohmann::ordered_json::parse(sem.segmenter_settings_json);
-  j["camera"] = sem.camera;
+  j["camera"] = report.segmented_camera;
   j["frames_observed"] = report.frames_observed;
   j["frames_unobserved"] = report.frames_unobserved;
   j["vertices_labelled"] = report.vertices_labelled;
@@ -281,6 +281,7 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
         if (c.name == sem.camera) view = &c;
       }
       if (view == nullptr && !frame->cameras.empty()) view = &frame->cameras.front();
+      if (view != nullptr) report.segmented_camera = view->name;
       if (view == nullptr) {
         unobserved(frame->index, "the recording has no camera");
       } else if (!view->hasImage()) {

@@ -36,8 +36,8 @@ struct SemanticRunParams {
   semantics::Segmenter* segmenter = nullptr;
   semantics::ActiveBrush* brush = nullptr;
   const semantics::Vocabulary* vocabulary = nullptr;
-  std::string camera = "image_02";  // the segmented camera; the frame's first camera if it has none by that name
-  bool write_distribution = false;  // prob_<class> per vertex in mesh.ply
+  std::string camera;  // the segmented camera's name; empty (or absent from a frame): the frame's first camera
+  bool write_distribution = false;             // prob_<class> per vertex in mesh.ply
   std::string segmenter_settings_json = "{}";  // recorded in semantics.json
 };
 
@@ -72,6 +72,7 @@ struct RunReport {
   std::size_t frames_observed = 0;
   std::size_t frames_unobserved = 0;
   std::size_t vertices_labelled = 0;  // mesh vertices with a class
+  std::string segmented_camera;       // the camera whose images were segmented
 };
 
 using ProgressFn = std::function<void(std::size_t done, std::size_t total)>;
