@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <future>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
@@ -208,8 +209,11 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
   std::optional<Isometry3d> last_T;  // pose of the last mapped frame
   std::size_t last_i = 0;
   double last_stamp_s = 0.0;
-  dataset.rewind();
   const std::size_t total = dataset.size();
+  // Frame i + 1 is read (scan and image decoded) while frame i is mapped; "read" is the wait.
+  const auto read = [&dataset](std::size_t i) { return dataset.frame(i); };
+  std::future<Result<Frame>> pending;
+  if (total > 0) pending = std::async(std::launch::async, read, std::size_t{0});
   for (std::size_t i = 0; i < total; ++i) {
     // The prior: the recording's motion since the last mapped frame, composed with that frame's
     // (possibly refined) pose; or a constant-velocity guess.
@@ -222,10 +226,10 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
       }
     }
     Stopwatch frame_clock;
-    auto frame = dataset.next();
+    auto frame = pending.get();
+    if (i + 1 < total) pending = std::async(std::launch::async, read, i + 1);
     const double read_ms = frame_clock.elapsedMs();
     if (!frame) {
-      if (frame.status().code() == StatusCode::kEndOfData) break;
       log::warn("frame {} skipped: {}", dataset.firstIndex() + i, frame.status().message());
       ++report.frames_failed;
       trajectory += formatRowMajor3x4(prior) + "\n";  // line k stays frame k

@@ -60,7 +60,9 @@ struct RunReport {
   std::size_t frames_failed = 0;  // unreadable frames, logged and skipped
   std::size_t vertices = 0;
   std::size_t faces = 0;
-  StageTimes times;  // stages "read", ["register",] ["segment",] "insert", ["fuse",] "mesh", "total" per frame
+  // Stages "read" (waiting for the frame: the next frame is read while one is mapped), ["register",]
+  // ["segment",] "insert", ["fuse",] "mesh", "total" (all but "segment") per frame.
+  StageTimes times;
   double finish_ms = 0.0;
   double peak_rss_mb = 0.0;
   std::vector<registration::FrameRegistration> registrations;  // one per mapped frame, with refinement
