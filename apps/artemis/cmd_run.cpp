@@ -34,6 +34,7 @@ struct RunFlags {
   std::string sim_gt;  // sim: the simulator's gt/ folder (default: found beside the recording)
   std::string vocabulary;
   std::string aliases;
+  std::string texture = "auto";
 };
 
 struct SemanticSetup {
@@ -159,7 +160,17 @@ nlohmann::ordered_json configJson(const RunFlags& f, const std::string& dataset_
           {"remesh_min_new", m.remesh_min_new},
           {"first_mesh_points", m.first_mesh_points},
           {"threads", m.threads},
-          {"semantics", semantic}};
+          {"semantics", semantic},
+          {"texture",
+           {{"on", f.params.texture},
+            {"holdout", f.params.texture_holdout},
+            {"reliability", m.refinement.reliability},
+            {"sigma_photo", m.refinement.sigma_photo},
+            {"sigma_geom", m.refinement.sigma_geom},
+            {"depth_epsilon_m", m.refinement.depth_epsilon_m},
+            {"min_reliability", m.refinement.min_reliability},
+            {"sigma_obs", m.refinement.sigma_obs},
+            {"exposure_gain", m.refinement.exposure_gain}}}};
 }
 
 // With no recording given: simulate the demo street into <out>/sim and map that.
@@ -188,10 +199,15 @@ int runRun(RunFlags flags) {
     }
     flags.dataset.path = *demo;
   }
-  // Images are read only for semantics (the segmenter's input).
-  auto dataset = flags.dataset.open(/*load_images=*/!flags.segmenter.empty());
+  // Images are read for texture and semantics.
+  auto dataset = flags.dataset.open(/*load_images=*/!flags.segmenter.empty() || flags.texture != "off");
   if (!dataset) {
     log::error("{}", dataset.status().message());
+    return 1;
+  }
+  flags.params.texture = flags.texture == "on" || (flags.texture == "auto" && !(*dataset)->cameras().empty());
+  if (flags.params.texture && (*dataset)->cameras().empty()) {
+    log::error("{}: --texture on, but the recording has no camera", (*dataset)->root().string());
     return 1;
   }
   auto semantic = setUpSemantics(flags, **dataset);
@@ -246,6 +262,12 @@ int runRun(RunFlags flags) {
       "{:.1f} / {:.1f}; final meshing {:.0f} ms; peak memory {:.0f} MB; {:.1f} s in all\n",
       insert.median_ms, insert.p95_ms, mesh.median_ms, mesh.p95_ms, total.median_ms, total.p95_ms, report->finish_ms,
       report->peak_rss_mb, clock.elapsedS());
+  if (flags.params.texture) {
+    const auto refine_t = report->times.summary("refine");
+    fmt::print("texture: {} frames refined, {} held out; refine per frame (median / p95 ms) {:.1f} / {:.1f}\n",
+               report->times.samples("refine").size(), report->held_out_frames.size(), refine_t.median_ms,
+               refine_t.p95_ms);
+  }
   if (*semantic) {
     const auto fuse = report->times.summary("fuse");
     const auto segment = report->times.summary("segment");
@@ -298,6 +320,25 @@ void addRunCommand(CLI::App& app, int& exit_code) {
       ->capture_default_str();
   cmd->add_option("--registration-fine-distance", r.icp.min_distance_m,
                   "Correspondence distance of registration's finest stage (m)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  cmd->add_option(
+         "--texture", flags->texture,
+         "Stage 2 texture refinement from the camera images: auto (on when the recording has a camera), on, off")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"auto", "on", "off"}));
+  cmd->add_option("--texture-holdout", flags->params.texture_holdout,
+                  "Leave every N-th frame's image out of texturing (for artemis eval texture); 0: none")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  auto& rp = m.refinement;
+  cmd->add_flag(
+      "--no-reliability", [&rp](std::int64_t) { rp.reliability = false; },
+      "Texture: plain averaging of every view (no reliability W, eq. 9-11)");
+  cmd->add_option("--sigma-photo", rp.sigma_photo, "Texture: sigma_photo of eq. 9 (linear RGB)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--sigma-geom", rp.sigma_geom, "Texture: sigma_geom of eq. 9 (relative depth)")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
   cmd->add_option("-q,--query", flags->queries,

@@ -49,6 +49,7 @@ Mapper::Mapper(const MapperParams& params)
       map_(params.voxels),
       mesher_(params.mesher),
       fusion_(params.semantics),
+      refinement_(params.refinement),
       arena_(std::make_unique<Arena>(params.threads)) {
   mesh_.setVoxelPrior(static_cast<float>(params.semantics.voxel_prior));
 }
@@ -95,6 +96,12 @@ FrameStats Mapper::integrate(const PointCloud& points_L, const Isometry3d& T_W_L
   sortSpatially(due);
   stats.meshed_voxels = meshVoxels(due);
   stats.mesh_ms = clock.elapsedMs();
+  return stats;
+}
+
+RefinementStats Mapper::refine(const CameraView& view, const Isometry3d& T_W_L) {
+  RefinementStats stats;
+  arena_->arena.execute([&] { stats = refinement_.refine(map_, mesh_, view, T_W_L); });
   return stats;
 }
 

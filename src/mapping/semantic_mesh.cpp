@@ -97,6 +97,25 @@ float SemanticMesh::confidence(std::uint32_t v, double lambda) const {
   return static_cast<float>(1.0 - std::exp(-lambda * static_cast<double>(voxelSemanticWeight(v))));
 }
 
+void SemanticMesh::fuseColour(std::uint32_t v, const Eigen::Vector3f& c, float variance) {
+  if (v >= colour_var_.size()) {
+    colour_mean_.resize(positions_.size(), Eigen::Vector3f::Zero());
+    colour_var_.resize(positions_.size(), Eigen::Vector3f::Zero());
+  }
+  Eigen::Vector3f& mean = colour_mean_[v];
+  Eigen::Vector3f& var = colour_var_[v];
+  if (!(var.x() > 0.0f)) {
+    mean = c;
+    var.setConstant(variance);
+    return;
+  }
+  for (int k = 0; k < 3; ++k) {
+    const float gain = var(k) / (var(k) + variance);
+    mean(k) += gain * (c(k) - mean(k));
+    var(k) *= 1.0f - gain;
+  }
+}
+
 void SemanticMesh::setVoxelFaces(const VoxelKey& voxel, std::vector<Face> faces) {
   auto& slot = faces_[voxel];
   changes_.faces_removed += slot.size();

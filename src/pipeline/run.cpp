@@ -2,6 +2,8 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cmath>
 #include <future>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -41,7 +43,24 @@ Status writeMeshPly(const mapping::SemanticMesh& mesh, const fs::path& path, con
   std::vector<std::uint32_t> triangles;
   triangles.reserve(3 * compact.faces.size());
   for (const auto& f : compact.faces) triangles.insert(triangles.end(), f.begin(), f.end());
-  io::PlyData ply = io::makePlyMesh({.xyz = &xyz, .normals = &normals, .rgb = nullptr, .triangles = &triangles});
+  // Texture: the colour means, linear RGB encoded as 8-bit sRGB; grey where no view coloured a vertex.
+  std::vector<std::uint8_t> rgb;
+  bool textured = false;
+  for (const std::uint32_t v : compact.vertex_ids) textured = textured || mesh.hasColour(v);
+  if (textured) {
+    rgb.resize(3 * compact.vertex_ids.size(), 128);
+    for (std::size_t i = 0; i < compact.vertex_ids.size(); ++i) {
+      if (!mesh.hasColour(compact.vertex_ids[i])) continue;
+      const Eigen::Vector3f c = mesh.colourMean(compact.vertex_ids[i]);
+      for (int k = 0; k < 3; ++k) {
+        const double x = std::clamp(static_cast<double>(c(k)), 0.0, 1.0);
+        const double s = x <= 0.0031308 ? 12.92 * x : 1.055 * std::pow(x, 1.0 / 2.4) - 0.055;
+        rgb[3 * i + static_cast<std::size_t>(k)] = static_cast<std::uint8_t>(std::lround(255.0 * s));
+      }
+    }
+  }
+  io::PlyData ply =
+      io::makePlyMesh({.xyz = &xyz, .normals = &normals, .rgb = textured ? &rgb : nullptr, .triangles = &triangles});
   ply.comments.push_back("ARTEMIS Living Map: world frame, normals towards the sensor");
   if (semantics != nullptr && semantics->vocabulary != nullptr) {
     const std::size_t n = compact.vertex_ids.size();
@@ -97,8 +116,9 @@ std::string timingJson(const RunReport& report) {
   nlohmann::ordered_json j;
   j["frames"] = report.frames;
   nlohmann::ordered_json stages = nlohmann::ordered_json::object();
-  for (const std::string& stage : {std::string("read"), std::string("register"), std::string("segment"),
-                                   std::string("insert"), std::string("fuse"), std::string("mesh")}) {
+  for (const std::string& stage :
+       {std::string("read"), std::string("register"), std::string("segment"), std::string("insert"),
+        std::string("fuse"), std::string("mesh"), std::string("refine")}) {
     if (report.times.samples(stage).empty()) continue;
     const StageSummary s = report.times.summary(stage);
     stages[stage] = {{"median_ms", s.median_ms}, {"p95_ms", s.p95_ms}, {"max_ms", s.max_ms}};
@@ -276,15 +296,16 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
     // Segmentation: apart from the mapping pipeline's time (a neural segmenter runs on its own).
     double segment_ms = 0.0;
     semantics::SemanticObservation observation;
+    // The camera segmented and textured: the one asked for, else the frame's first.
     const CameraView* view = nullptr;
+    for (const CameraView& c : frame->cameras) {
+      if (c.name == sem.camera) view = &c;
+    }
+    if (view == nullptr && !frame->cameras.empty()) view = &frame->cameras.front();
     if (semantic) {
       Stopwatch segment_clock;
       const std::vector<semantics::ClassId> prompts = sem.brush->beginFrame(i);
       for (const semantics::ClassId c : prompts) mapper.addSemanticClass(c);
-      for (const CameraView& c : frame->cameras) {
-        if (c.name == sem.camera) view = &c;
-      }
-      if (view == nullptr && !frame->cameras.empty()) view = &frame->cameras.front();
       if (view != nullptr) report.segmented_camera = view->name;
       if (view == nullptr) {
         unobserved(frame->index, "the recording has no camera");
@@ -313,6 +334,24 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
     report.times.add("insert", stats.insert_ms);
     if (semantic) report.times.add("fuse", stats.fuse_ms);
     report.times.add("mesh", stats.mesh_ms);
+    // Stage 2: texture refinement from this frame's image, unless the frame is held out.
+    if (params.texture) {
+      const bool held_out =
+          params.texture_holdout > 0 && (i + 1) % static_cast<std::size_t>(params.texture_holdout) == 0;
+      if (held_out) {
+        report.held_out_frames.push_back(frame->index);
+      } else if (view != nullptr && view->hasImage()) {
+        Stopwatch refine_clock;
+        const mapping::RefinementStats r = mapper.refine(*view, T_W_L);
+        report.times.add("refine", refine_clock.elapsedMs());
+        report.vertices_textured_per_frame.push_back(r.vertices_updated);
+        log::debug(
+            "frame {}: refinement: {} voxels in view, {} faces rendered, {} vertices in view, {} updated, "
+            "gain {:.3f}; cull {:.1f} ms, depth {:.1f} ms, fuse {:.1f} ms",
+            frame->index, r.voxels_in_view, r.faces_rendered, r.vertices_in_view, r.vertices_updated, r.gain, r.cull_ms,
+            r.depth_ms, r.fuse_ms);
+      }
+    }
     report.times.add("total", frame_clock.elapsedMs() - segment_ms);
     trajectory += formatRowMajor3x4(T_W_L) + "\n";
     last_T = T_W_L;

@@ -152,3 +152,38 @@ TEST(RunSemantics, BadSettingsAreClearErrors) {
 
 }  // namespace
 }  // namespace artemis
+
+namespace artemis {
+namespace {
+
+TEST(RunTexture, ColoursTheMeshAndHoldsOutFrames) {
+  test::TempDir tmp;
+  const fs::path sim = simulate(tmp);
+  const fs::path out = tmp / "run";
+  const auto r = runCli("run " + sim.string() + " --texture-holdout 2 --out " + out.string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("texture: 2 frames refined, 2 held out"), std::string::npos) << r.out;
+  auto ply = io::readPly(out / "mesh.ply");
+  ASSERT_TRUE(ply);
+  auto red = ply->scalarAs<int>("vertex", "red");
+  auto green = ply->scalarAs<int>("vertex", "green");
+  ASSERT_TRUE(red && green);
+  std::size_t coloured = 0;
+  for (std::size_t i = 0; i < red->size(); ++i) coloured += ((*red)[i] != 128 || (*green)[i] != 128) ? 1 : 0;
+  EXPECT_GT(coloured, red->size() / 10);  // the camera sees the forward ~80 degrees of the scans
+  const auto timing = readJson(out / "timing.json");
+  EXPECT_TRUE(timing["stages"].contains("refine"));
+  const auto config = readJson(out / "config.json");
+  EXPECT_EQ(config["texture"]["holdout"], 2);
+
+  const auto off = runCli("run " + sim.string() + " --texture off --out " + (tmp / "plain").string());
+  ASSERT_EQ(off.exit_code, 0) << off.err;
+  auto plain = io::readPly(tmp / "plain" / "mesh.ply");
+  ASSERT_TRUE(plain);
+  EXPECT_FALSE(plain->scalarAs<int>("vertex", "red"));
+  const auto bad = runCli("run " + sim.string() + " --texture maybe --out " + (tmp / "bad").string());
+  EXPECT_NE(bad.exit_code, 0);
+}
+
+}  // namespace
+}  // namespace artemis

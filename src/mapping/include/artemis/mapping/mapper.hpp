@@ -10,6 +10,7 @@
 #include "artemis/core/point_cloud.hpp"
 #include "artemis/core/transform.hpp"
 #include "artemis/mapping/incremental_mesher.hpp"
+#include "artemis/mapping/refinement.hpp"
 #include "artemis/mapping/semantic_fusion.hpp"
 #include "artemis/mapping/semantic_mesh.hpp"
 #include "artemis/mapping/voxel_map.hpp"
@@ -20,6 +21,7 @@ struct MapperParams {
   VoxelMapParams voxels;
   MesherParams mesher;
   SemanticFusionParams semantics;
+  RefinementParams refinement;
   // A voxel is first meshed once it holds first_mesh_points, then re-meshed once its points grew
   // by remesh_growth (and by at least remesh_min_new) since it was last meshed; finish() meshes
   // whatever is still pending, so the final mesh does not depend on these. On KITTI drive 0013
@@ -58,6 +60,8 @@ class Mapper {
   // With `semantic`, the observation is fused into the cells of the frame's points (1b) after they
   // are inserted (1a) and before meshing (1c).
   FrameStats integrate(const PointCloud& points_L, const Isometry3d& T_W_L, const SemanticInput* semantic = nullptr);
+  // Stage 2: refines the colours of the vertices `view` sees from the LiDAR pose `T_W_L`.
+  RefinementStats refine(const CameraView& view, const Isometry3d& T_W_L);
   // Gives `cls` a semantic slot (a class newly prompted); see SemanticMesh::addSemanticClass.
   void addSemanticClass(semantics::ClassId cls) { mesh_.addSemanticClass(cls); }
   // Meshes every voxel with points added since it was last meshed. Returns how many.
@@ -75,6 +79,7 @@ class Mapper {
   SemanticMesh mesh_;
   IncrementalMesher mesher_;
   SemanticFusion fusion_;
+  TextureRefinement refinement_;
   std::vector<Eigen::Vector3f> points_W_;
   struct Arena;
   std::unique_ptr<Arena> arena_;

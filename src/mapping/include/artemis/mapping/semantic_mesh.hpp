@@ -80,6 +80,18 @@ class SemanticMesh {
   // eq. 7: xi = 1 - exp(-lambda W_sem(voxel of v)).
   [[nodiscard]] float confidence(std::uint32_t v, double lambda) const;
 
+  // Texture (stage 2): per vertex a Gaussian colour in linear RGB, mean and per-channel variance.
+  [[nodiscard]] bool hasColour(std::uint32_t v) const { return v < colour_var_.size() && colour_var_[v].x() > 0.0f; }
+  [[nodiscard]] Eigen::Vector3f colourMean(std::uint32_t v) const {
+    return hasColour(v) ? colour_mean_[v] : Eigen::Vector3f::Zero();
+  }
+  [[nodiscard]] Eigen::Vector3f colourVariance(std::uint32_t v) const {
+    return hasColour(v) ? colour_var_[v] : Eigen::Vector3f::Zero();
+  }
+  // Fuses an observation `c` with per-channel variance `variance` (> 0) into vertex v's colour: the
+  // first sets it, later ones update mean and variance as a Kalman filter does.
+  void fuseColour(std::uint32_t v, const Eigen::Vector3f& c, float variance);
+
   // The frame's change log: voxels whose faces were replaced, and face counts added and removed.
   struct Changes {
     std::vector<VoxelKey> voxels;
@@ -108,6 +120,8 @@ class SemanticMesh {
   std::vector<float> voxel_evidence_;       // voxel-major, slotCount() per voxel
   std::vector<float> voxel_weight_;         // W_sem per voxel
   float voxel_prior_ = 10.0f;
+  std::vector<Eigen::Vector3f> colour_mean_;
+  std::vector<Eigen::Vector3f> colour_var_;  // 0: never coloured
   std::unordered_map<VoxelKey, std::vector<Face>, VoxelKeyHash> faces_;
   std::size_t face_count_ = 0;
   Changes changes_;

@@ -9,6 +9,7 @@
 #include <array>
 #include <cstdint>
 #include <limits>
+#include <unordered_map>
 #include <vector>
 
 #include <Eigen/Core>
@@ -63,6 +64,18 @@ class VoxelMap {
   [[nodiscard]] std::uint32_t frame() const { return frame_; }
   // Keys of every voxel, sorted.
   [[nodiscard]] std::vector<VoxelKey> keys() const;
+  [[nodiscard]] const VoxelKey& keyAt(std::uint32_t index) const { return keys_[index]; }
+  [[nodiscard]] const Voxel& voxelAt(std::uint32_t index) const { return voxels_[index]; }
+
+  // Voxels grouped in blocks of kBlockVoxels^3, for culling: a view first tests blocks, then the
+  // voxels of the blocks it sees. Each block: its key (voxel key / kBlockVoxels, floored) and the
+  // indices of its voxels in creation order.
+  static constexpr int kBlockVoxels = 16;
+  struct Block {
+    VoxelKey key;
+    std::vector<std::uint32_t> voxels;
+  };
+  [[nodiscard]] const std::vector<Block>& blocks() const { return blocks_; }
 
  private:
   // Open addressing with linear probing over a power-of-two table of indices into voxels_: the
@@ -89,6 +102,8 @@ class VoxelMap {
     std::uint32_t voxel = 0;  // index into voxels_, once inserted
   };
   std::vector<Prepared> prepared_;  // per-frame scratch of insert()
+  std::vector<Block> blocks_;
+  std::unordered_map<VoxelKey, std::uint32_t, VoxelKeyHash> block_of_;  // block key -> index into blocks_
 };
 
 }  // namespace artemis::mapping

@@ -1,6 +1,7 @@
 #pragma once
 // `artemis run`: reads a recording frame by frame, builds the Living Map, and writes
-//   <out>/mesh.ply        binary PLY: float x y z, float nx ny nz (towards the sensor), faces; with
+//   <out>/mesh.ply        binary PLY: float x y z, float nx ny nz (towards the sensor), with texture
+//                         uchar red green blue (sRGB; grey where no view coloured a vertex), faces; with
 //                         semantics also uchar class_id (vocabulary id, 0: none of the prompted
 //                         classes or never observed), float confidence (xi of eq. 7) and, when
 //                         asked, float prob_<class> per prompted class and prob_none
@@ -53,6 +54,11 @@ struct RunParams {
   // only for recordings with sweep start and end stamps.
   bool deskew = false;
   SemanticRunParams semantics;
+  // Stage 2: texture refinement from each frame's camera image (frames without one are skipped).
+  // With texture_holdout N > 0, every N-th frame of the range (the N-th, 2N-th, ...) is left out
+  // of it, for `artemis eval texture` to render the mesh there.
+  bool texture = false;
+  int texture_holdout = 0;
 };
 
 struct RunReport {
@@ -61,7 +67,7 @@ struct RunReport {
   std::size_t vertices = 0;
   std::size_t faces = 0;
   // Stages "read" (waiting for the frame: the next frame is read while one is mapped), ["register",]
-  // ["segment",] "insert", ["fuse",] "mesh", "total" (all but "segment") per frame.
+  // ["segment",] "insert", ["fuse",] "mesh", ["refine",] "total" (all but "segment") per frame.
   StageTimes times;
   double finish_ms = 0.0;
   double peak_rss_mb = 0.0;
@@ -73,8 +79,10 @@ struct RunReport {
   // (no image, no mask file, a segmenter error; each logged).
   std::size_t frames_observed = 0;
   std::size_t frames_unobserved = 0;
-  std::size_t vertices_labelled = 0;  // mesh vertices with a class
-  std::string segmented_camera;       // the camera whose images were segmented
+  std::size_t vertices_labelled = 0;                     // mesh vertices with a class
+  std::string segmented_camera;                          // the camera whose images were segmented
+  std::vector<std::size_t> held_out_frames;              // recording indices left out of texturing
+  std::vector<std::size_t> vertices_textured_per_frame;  // per textured frame
 };
 
 using ProgressFn = std::function<void(std::size_t done, std::size_t total)>;

@@ -1,0 +1,234 @@
+#include "artemis/mapping/refinement.hpp"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+#include "artemis/core/timer.hpp"
+#include "artemis/render/rasterizer.hpp"
+
+namespace artemis::mapping {
+
+namespace {
+
+// The view frustum in the camera frame as half-spaces n . p + d >= 0: near, far and the four
+// planes through the optical centre and the image's borders.
+struct Frustum {
+  std::array<Eigen::Vector4f, 6> planes;
+
+  Frustum(const PinholeCamera& c, float near, float far) {
+    const auto fx = static_cast<float>(c.fx_px);
+    const auto fy = static_cast<float>(c.fy_px);
+    const auto cx = static_cast<float>(c.cx_px);
+    const auto cy = static_cast<float>(c.cy_px);
+    const auto w = static_cast<float>(c.width_px);
+    const auto h = static_cast<float>(c.height_px);
+    planes = {Eigen::Vector4f(0, 0, 1, -near),      Eigen::Vector4f(0, 0, -1, far),
+              Eigen::Vector4f(fx, 0, cx + 0.5f, 0), Eigen::Vector4f(-fx, 0, w - 0.5f - cx, 0),
+              Eigen::Vector4f(0, fy, cy + 0.5f, 0), Eigen::Vector4f(0, -fy, h - 0.5f - cy, 0)};
+  }
+
+  // False when the box [lo, hi] (world) lies wholly outside one plane.
+  [[nodiscard]] bool mayContain(const Eigen::Vector3f& lo, const Eigen::Vector3f& hi, const Eigen::Matrix3f& R,
+                                const Eigen::Vector3f& t) const {
+    std::array<Eigen::Vector3f, 8> corners;
+    for (int k = 0; k < 8; ++k) {
+      const Eigen::Vector3f p((k & 1) != 0 ? hi.x() : lo.x(), (k & 2) != 0 ? hi.y() : lo.y(),
+                              (k & 4) != 0 ? hi.z() : lo.z());
+      corners[static_cast<std::size_t>(k)] = R * p + t;
+    }
+    for (const Eigen::Vector4f& plane : planes) {
+      bool all_out = true;
+      for (const Eigen::Vector3f& q : corners) {
+        if (plane.head<3>().dot(q) + plane.w() >= 0.0f) {
+          all_out = false;
+          break;
+        }
+      }
+      if (all_out) return false;
+    }
+    return true;
+  }
+};
+
+// sRGB (8-bit) to linear RGB.
+const std::array<float, 256>& srgbToLinear() {
+  static const std::array<float, 256> kTable = [] {
+    std::array<float, 256> t{};
+    for (int i = 0; i < 256; ++i) {
+      const double s = i / 255.0;
+      t[static_cast<std::size_t>(i)] =
+          static_cast<float>(s <= 0.04045 ? s / 12.92 : std::pow((s + 0.055) / 1.055, 2.4));
+    }
+    return t;
+  }();
+  return kTable;
+}
+
+float luminance(const Eigen::Vector3f& c) {
+  return 0.2126f * c.x() + 0.7152f * c.y() + 0.0722f * c.z();
+}
+
+struct Candidate {
+  std::uint32_t vertex = 0;
+  Eigen::Vector3f colour = Eigen::Vector3f::Zero();  // linear RGB, before the gain
+  float r_geom = 0.0f;
+  bool valid = false;
+};
+
+}  // namespace
+
+std::vector<std::uint32_t> voxelsInView(const VoxelMap& map, const PinholeCamera& camera, const Isometry3d& T_W_C,
+                                        double max_range_m) {
+  const Isometry3d T_C_W = T_W_C.inverse();
+  const Eigen::Matrix3f R = T_C_W.linear().cast<float>();
+  const Eigen::Vector3f t = T_C_W.translation().cast<float>();
+  const Frustum frustum(camera, static_cast<float>(PinholeCamera::kMinDepthM), static_cast<float>(max_range_m));
+  const float block_size = map.voxelSize() * static_cast<float>(VoxelMap::kBlockVoxels);
+  std::vector<std::uint32_t> out;
+  for (const VoxelMap::Block& block : map.blocks()) {
+    const Eigen::Vector3f lo = Eigen::Vector3f(static_cast<float>(block.key.x), static_cast<float>(block.key.y),
+                                               static_cast<float>(block.key.z)) *
+                               block_size;
+    if (!frustum.mayContain(lo, lo + Eigen::Vector3f::Constant(block_size), R, t)) continue;
+    for (const std::uint32_t index : block.voxels) {
+      const Voxel& v = map.voxelAt(index);
+      if (v.points.empty() || !frustum.mayContain(v.lo, v.hi, R, t)) continue;
+      out.push_back(index);
+    }
+  }
+  std::sort(out.begin(), out.end());
+  return out;
+}
+
+TextureRefinement::TextureRefinement(const RefinementParams& params) : params_(params) {
+  if (!(params.sigma_photo > 0.0) || !(params.sigma_geom > 0.0) || !(params.depth_epsilon_m > 0.0) ||
+      !(params.sigma_obs > 0.0) || !(params.min_reliability >= 0.0 && params.min_reliability <= 1.0) ||
+      !(params.max_range_m > 0.0)) {
+    throw std::invalid_argument(
+        "refinement: sigma_photo, sigma_geom, depth_epsilon_m, sigma_obs and max_range_m must be > 0 and "
+        "min_reliability in [0, 1]");
+  }
+}
+
+RefinementStats TextureRefinement::refine(const VoxelMap& map, SemanticMesh& mesh, const CameraView& view,
+                                          const Isometry3d& T_W_L) {
+  RefinementStats stats;
+  if (!view.hasImage() || view.image.channels() < 3) return stats;
+  const PinholeCamera& camera = view.camera;
+  const int w = view.image.width();
+  const int h = view.image.height();
+  const Isometry3d T_W_C = T_W_L * view.T_L_C;
+
+  // 1. Culling: blocks, then voxels.
+  Stopwatch clock;
+  const std::vector<std::uint32_t> voxels = voxelsInView(map, camera, T_W_C, params_.max_range_m);
+  stats.voxels_in_view = voxels.size();
+  stats.cull_ms = clock.elapsedMs();
+
+  // 2. The reference depth: the faces of the voxels in view, rendered from the camera.
+  clock.reset();
+  std::vector<std::array<std::uint32_t, 3>> faces;
+  for (const std::uint32_t index : voxels) {
+    if (const auto* f = mesh.voxelFaces(map.keyAt(index))) faces.insert(faces.end(), f->begin(), f->end());
+  }
+  stats.faces_rendered = faces.size();
+  render::View render_view;
+  render_view.camera = camera;
+  render_view.T_W_C = T_W_C;
+  render_view.far_m = params_.max_range_m * 2.0;
+  const render::Picture reference = render::rasterize({mesh.positions(), faces, {}}, render_view);
+  stats.depth_ms = clock.elapsedMs();
+
+  // 3. Each vertex of those voxels: its pixel, colour (bilinear) and geometric residual.
+  clock.reset();
+  std::vector<std::size_t> offset(voxels.size() + 1, 0);
+  for (std::size_t k = 0; k < voxels.size(); ++k) offset[k + 1] = offset[k] + map.voxelAt(voxels[k]).vertices.size();
+  std::vector<Candidate> candidates(offset.back());
+  const Isometry3d T_C_W = T_W_C.inverse();
+  const Eigen::Matrix3f R = T_C_W.linear().cast<float>();
+  const Eigen::Vector3f t = T_C_W.translation().cast<float>();
+  const auto fx = static_cast<float>(camera.fx_px);
+  const auto fy = static_cast<float>(camera.fy_px);
+  const auto cx = static_cast<float>(camera.cx_px);
+  const auto cy = static_cast<float>(camera.cy_px);
+  const auto epsilon = static_cast<float>(params_.depth_epsilon_m);
+  const auto& lut = srgbToLinear();
+  const auto texel = [&](int u, int v) {
+    return Eigen::Vector3f(lut[view.image.at(u, v, 0)], lut[view.image.at(u, v, 1)], lut[view.image.at(u, v, 2)]);
+  };
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, voxels.size(), 64), [&](const auto& range) {
+    for (std::size_t k = range.begin(); k < range.end(); ++k) {
+      const Voxel& voxel = map.voxelAt(voxels[k]);
+      for (std::size_t j = 0; j < voxel.vertices.size(); ++j) {
+        Candidate& c = candidates[offset[k] + j];
+        c.vertex = voxel.vertices[j];
+        const Eigen::Vector3f p_C = R * mesh.positions()[c.vertex] + t;
+        if (!(p_C.z() > static_cast<float>(PinholeCamera::kMinDepthM))) continue;
+        const float u = fx * p_C.x() / p_C.z() + cx;
+        const float v = fy * p_C.y() / p_C.z() + cy;
+        if (!(u >= 0.0f && v >= 0.0f && u <= static_cast<float>(w - 1) && v <= static_cast<float>(h - 1))) continue;
+        const int u0 = std::min(static_cast<int>(u), w - 2 < 0 ? 0 : w - 2);
+        const int v0 = std::min(static_cast<int>(v), h - 2 < 0 ? 0 : h - 2);
+        const float a = u - static_cast<float>(u0);
+        const float b = v - static_cast<float>(v0);
+        const int u1 = std::min(u0 + 1, w - 1);
+        const int v1 = std::min(v0 + 1, h - 1);
+        c.colour = (1 - a) * (1 - b) * texel(u0, v0) + a * (1 - b) * texel(u1, v0) + (1 - a) * b * texel(u0, v1) +
+                   a * b * texel(u1, v1);
+        const float d_ref = reference.depth.at(static_cast<int>(std::lround(u)), static_cast<int>(std::lround(v)));
+        c.r_geom = std::isfinite(d_ref) ? std::abs(p_C.z() - d_ref) / std::max(d_ref, epsilon) : 0.0f;
+        c.valid = true;
+      }
+    }
+  });
+  for (const Candidate& c : candidates) stats.vertices_in_view += c.valid ? 1 : 0;
+
+  // 4. The exposure gain: median of observed / mapped luminance over coloured, unoccluded vertices.
+  double gain = 1.0;
+  if (params_.exposure_gain) {
+    std::vector<float> ratios;
+    for (const Candidate& c : candidates) {
+      if (!c.valid || c.r_geom > static_cast<float>(params_.sigma_geom) || !mesh.hasColour(c.vertex)) continue;
+      const float mapped = luminance(mesh.colourMean(c.vertex));
+      const float seen = luminance(c.colour);
+      if (mapped > 0.02f && seen > 0.02f) ratios.push_back(seen / mapped);
+    }
+    if (ratios.size() >= 100) {
+      std::nth_element(ratios.begin(), ratios.begin() + static_cast<std::ptrdiff_t>(ratios.size() / 2), ratios.end());
+      gain = std::clamp(static_cast<double>(ratios[ratios.size() / 2]), 0.25, 4.0);
+    }
+  }
+  stats.gain = gain;
+
+  // 5. eq. 9-10 and the Bayesian colour update, vertex by vertex in a fixed order.
+  const auto inv_gain = static_cast<float>(1.0 / gain);
+  const auto inv_sp = static_cast<float>(1.0 / params_.sigma_photo);
+  const auto inv_sg = static_cast<float>(1.0 / params_.sigma_geom);
+  const auto obs_var = static_cast<float>(params_.sigma_obs * params_.sigma_obs);
+  const auto min_w = static_cast<float>(params_.min_reliability);
+  for (const Candidate& c : candidates) {
+    if (!c.valid) continue;
+    const Eigen::Vector3f colour = c.colour * inv_gain;
+    float reliability = 1.0f;
+    if (params_.reliability) {
+      const float r_photo = mesh.hasColour(c.vertex) ? (colour - mesh.colourMean(c.vertex)).norm() : 0.0f;
+      const float e = r_photo * inv_sp;
+      const float g = c.r_geom * inv_sg;
+      reliability = std::exp(-0.5f * (e * e + g * g));
+    }
+    if (!(reliability >= min_w) || !(reliability > 0.0f)) continue;
+    mesh.fuseColour(c.vertex, colour, obs_var / reliability);
+    ++stats.vertices_updated;
+  }
+  stats.fuse_ms = clock.elapsedMs();
+  return stats;
+}
+
+}  // namespace artemis::mapping
