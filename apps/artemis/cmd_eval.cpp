@@ -232,10 +232,11 @@ int runTrajectoryEval(const TrajectoryEvalFlags& flags) {
 }  // namespace
 
 void addEvalSemanticsCommand(CLI::App& eval, int& exit_code);  // eval_semantics.cpp
+void addEvalTextureCommand(CLI::App& eval, int& exit_code);    // eval_texture.cpp
 
 void addEvalCommands(CLI::App& app, int& exit_code) {
   auto* eval =
-      app.add_subcommand("eval", "Score results against references (geometry, trajectory, semantics; later texture)");
+      app.add_subcommand("eval", "Score results against references (geometry, trajectory, semantics, texture)");
   eval->require_subcommand(1);
 
   auto flags = std::make_shared<MeshEvalFlags>();
@@ -276,6 +277,7 @@ void addEvalCommands(CLI::App& app, int& exit_code) {
   traj->callback([tflags, &exit_code] { exit_code = runTrajectoryEval(*tflags); });
 
   addEvalSemanticsCommand(*eval, exit_code);
+  addEvalTextureCommand(*eval, exit_code);
 }
 
 }  // namespace artemis::cli

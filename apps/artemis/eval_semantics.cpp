@@ -24,6 +24,7 @@
 #include "artemis/io/ply.hpp"
 #include "artemis/semantics/vocabulary.hpp"
 #include "progress.hpp"
+#include "run_folder.hpp"
 #include "segmenter_setup.hpp"
 
 namespace artemis::cli {
@@ -42,20 +43,6 @@ struct SemanticsEvalFlags {
   double max_range_m = datasets::DatasetOptions{}.max_range_m;
   bool masks_alone = false;
 };
-
-Result<nlohmann::json> readJsonFile(const fs::path& path, const std::string& missing_hint) {
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) return notFound(fmt::format("{}: not found{}", path.string(), missing_hint));
-  std::ifstream in(path);
-  if (!in) return ioError(fmt::format("{}: cannot be read", path.string()));
-  std::stringstream text;
-  text << in.rdbuf();
-  try {
-    return nlohmann::json::parse(text.str());
-  } catch (const nlohmann::json::exception& e) {
-    return parseError(fmt::format("{}: not valid JSON: {}", path.string(), e.what()));
-  }
-}
 
 // What the run was asked for: its vocabulary and the prompted classes, which are the ones scored.
 struct RunClasses {
@@ -127,40 +114,6 @@ Result<MeshClasses> readMeshClasses(const fs::path& path) {
 }
 
 // The part of the run's config.json that decides which points it mapped.
-struct RunRecording {
-  datasets::FrameRange frames;
-  bool vertical_correction = false;
-  std::string sequence;  // "NN" when the run read a sequences/NN folder
-};
-
-Result<RunRecording> readRunRecording(const fs::path& path) {
-  auto j = readJsonFile(path, "; needed for the run's frame range");
-  if (!j) return j.status();
-  const std::string file = path.string();
-  RunRecording out;
-  if (!j->is_object() || !j->contains("dataset") || !(*j)["dataset"].is_object()) {
-    return parseError(file + ": no \"dataset\" object");
-  }
-  const auto& d = (*j)["dataset"];
-  if (d.contains("frames")) {
-    if (!d["frames"].is_string()) return parseError(file + ": dataset.frames is not a text");
-    const auto text = d["frames"].get<std::string>();
-    if (text != "all") {
-      auto range = datasets::FrameRange::parse(text);
-      if (!range) return parseError(fmt::format("{}: dataset.frames: {}", file, range.status().message()));
-      out.frames = *range;
-    }
-  }
-  if (d.contains("vertical_correction") && d["vertical_correction"].is_boolean()) {
-    out.vertical_correction = d["vertical_correction"].get<bool>();
-  }
-  if (d.contains("path") && d["path"].is_string()) {
-    const fs::path dataset_path(d["path"].get<std::string>());
-    if (dataset_path.parent_path().filename() == "sequences") out.sequence = dataset_path.filename().string();
-  }
-  return out;
-}
-
 // One frame's labelled points in the world, with their truth class and whether they project into
 // the camera's image.
 struct LabelledPoints {

@@ -147,4 +147,50 @@ Picture rasterize(const MeshArrays& mesh, const View& view, std::span<const std:
   return out;
 }
 
+Picture splat(std::span<const Eigen::Vector3f> points, std::span<const Eigen::Vector3f> colours, double radius_m,
+              const View& view) {
+  const int w = view.camera.width_px;
+  const int h = view.camera.height_px;
+  Picture out;
+  out.depth = ImageF32(w, h, 1, std::numeric_limits<float>::infinity());
+  out.face.assign(static_cast<std::size_t>(w) * static_cast<std::size_t>(h), kNoFace);
+  const bool coloured = colours.size() == points.size() && !points.empty();
+  if (coloured) out.colour = ImageF32(w, h, 3, 0.0f);
+  const Isometry3d T_C_W = view.T_W_C.inverse();
+  const Eigen::Matrix3f R = T_C_W.linear().cast<float>();
+  const Eigen::Vector3f t = T_C_W.translation().cast<float>();
+  const auto fx = static_cast<float>(view.camera.fx_px);
+  const auto fy = static_cast<float>(view.camera.fy_px);
+  const auto cx = static_cast<float>(view.camera.cx_px);
+  const auto cy = static_cast<float>(view.camera.cy_px);
+  const auto r = static_cast<float>(radius_m);
+  for (std::size_t i = 0; i < points.size(); ++i) {
+    const Eigen::Vector3f p = R * points[i] + t;
+    if (!(p.z() >= static_cast<float>(view.near_m) && p.z() <= static_cast<float>(view.far_m))) continue;
+    const float u = fx * p.x() / p.z() + cx;
+    const float v = fy * p.y() / p.z() + cy;
+    const float rad = std::max(0.5f, fx * r / p.z());
+    const int u0 = std::max(0, static_cast<int>(std::ceil(u - rad)));
+    const int u1 = std::min(w - 1, static_cast<int>(std::floor(u + rad)));
+    const int v0 = std::max(0, static_cast<int>(std::ceil(v - rad)));
+    const int v1 = std::min(h - 1, static_cast<int>(std::floor(v + rad)));
+    for (int y = v0; y <= v1; ++y) {
+      for (int x = u0; x <= u1; ++x) {
+        const float du = static_cast<float>(x) - u;
+        const float dv = static_cast<float>(y) - v;
+        if (du * du + dv * dv > rad * rad) continue;
+        float& depth = out.depth.at(x, y);
+        if (p.z() >= depth) continue;
+        depth = p.z();
+        out.face[static_cast<std::size_t>(y) * static_cast<std::size_t>(w) + static_cast<std::size_t>(x)] =
+            static_cast<std::uint32_t>(i);
+        if (coloured) {
+          for (int ch = 0; ch < 3; ++ch) out.colour.at(x, y, ch) = colours[i](ch);
+        }
+      }
+    }
+  }
+  return out;
+}
+
 }  // namespace artemis::render

@@ -187,3 +187,33 @@ TEST(RunTexture, ColoursTheMeshAndHoldsOutFrames) {
 
 }  // namespace
 }  // namespace artemis
+
+namespace artemis {
+namespace {
+
+TEST(EvalTexture, ScoresHeldOutViewsAndTheSplatBaseline) {
+  test::TempDir tmp;
+  const fs::path sim = simulate(tmp);
+  const fs::path out = tmp / "run";
+  ASSERT_EQ(runCli("run " + sim.string() + " --texture-holdout 2 --out " + out.string()).exit_code, 0);
+  const auto r = runCli("eval texture " + out.string() + " --json " + (tmp / "t.json").string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("2 held-out views"), std::string::npos) << r.out;
+  const auto j = readJson(tmp / "t.json");
+  EXPECT_GT(j["mesh"]["psnr_db"].get<double>(), 10.0);
+  EXPECT_GT(j["mesh"]["covered"].get<double>(), 0.2);
+  EXPECT_GT(j["splats"]["covered"].get<double>(), 0.05);
+  EXPECT_EQ(j["views"].size(), 2u);
+  // A run that held nothing out, and one without colours: clear errors.
+  ASSERT_EQ(runCli("run " + sim.string() + " --out " + (tmp / "all").string()).exit_code, 0);
+  const auto none = runCli("eval texture " + (tmp / "all").string());
+  EXPECT_NE(none.exit_code, 0);
+  EXPECT_NE(none.err.find("--texture-holdout"), std::string::npos) << none.err;
+  ASSERT_EQ(runCli("run " + sim.string() + " --texture off --out " + (tmp / "grey").string()).exit_code, 0);
+  const auto grey = runCli("eval texture " + (tmp / "grey").string() + " --holdout 2");
+  EXPECT_NE(grey.exit_code, 0);
+  EXPECT_NE(grey.err.find("no vertex colours"), std::string::npos) << grey.err;
+}
+
+}  // namespace
+}  // namespace artemis

@@ -7,27 +7,14 @@
 
 #include "artemis/mapping/mapper.hpp"
 #include "artemis/mapping/refinement.hpp"
+#include "camera_scenes.hpp"
 
 namespace artemis::mapping {
 namespace {
 
-// A 200 x 100 camera at the LiDAR's origin looking along +x (KITTI's mounting).
+using test::wall;
 CameraView camera() {
-  CameraView view;
-  view.name = "image_02";
-  view.camera = {200, 100, 100.0, 100.0, 99.5, 49.5};
-  Eigen::Matrix3d R_L_C;
-  R_L_C << 0, 0, 1, -1, 0, 0, 0, -1, 0;
-  view.T_L_C.linear() = R_L_C;
-  return view;
-}
-
-PointCloud wall(float x, float half_y, float half_z) {
-  PointCloud cloud;
-  for (float y = -half_y + 0.025f; y < half_y; y += 0.05f) {
-    for (float z = -half_z + 0.025f; z < half_z; z += 0.05f) cloud.points.emplace_back(x, y, z);
-  }
-  return cloud;
+  return test::forwardCamera();
 }
 
 // The image: a grey wall (sRGB 128), the board's pixels (|u - cx|, |v - cy| <= 20) red.

@@ -6,6 +6,7 @@
 #include <random>
 
 #include "artemis/mapping/mapper.hpp"
+#include "camera_scenes.hpp"
 
 namespace artemis::mapping {
 namespace {
@@ -15,26 +16,9 @@ using semantics::SemanticObservation;
 constexpr ClassId kCar = 1;
 constexpr ClassId kBuilding = 13;
 
-// A 200 x 100 camera at the LiDAR's origin looking along +x (KITTI's mounting).
+using test::wall;
 CameraView camera() {
-  CameraView view;
-  view.name = "image_02";
-  view.camera = {200, 100, 100.0, 100.0, 99.5, 49.5};
-  Eigen::Matrix3d R_L_C;
-  R_L_C << 0, 0, 1, -1, 0, 0, 0, -1, 0;
-  view.T_L_C.linear() = R_L_C;
-  view.image = ImageU8(200, 100, 3);
-  return view;
-}
-
-// Points on the plane x = `x`, y in [-half_y, half_y], z in [-half_z, half_z], 0.05 m apart, offset
-// so that every 0.1 m cell holds exactly 2 x 2 of them.
-PointCloud wall(float x, float half_y, float half_z) {
-  PointCloud cloud;
-  for (float y = -half_y + 0.025f; y < half_y; y += 0.05f) {
-    for (float z = -half_z + 0.025f; z < half_z; z += 0.05f) cloud.points.emplace_back(x, y, z);
-  }
-  return cloud;
+  return test::forwardCamera();
 }
 
 // Left half of the image (LiDAR y > 0) one mask of `cls` with `score`; the right half background.

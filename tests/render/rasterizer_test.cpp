@@ -126,5 +126,21 @@ TEST(Rasterizer, SamePictureOnOneAndTwoThreads) {
   EXPECT_EQ(pictures[0].colour.data(), pictures[1].colour.data());
 }
 
+TEST(Splat, DiscsOfWorldRadiusNearestWins) {
+  const std::vector<Eigen::Vector3f> points{{0.0f, 0.0f, 5.0f}, {0.0f, 0.0f, 8.0f}, {0.0f, 0.0f, -3.0f}};
+  const std::vector<Eigen::Vector3f> colours{{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+  const Picture pic = splat(points, colours, 0.1, view());  // 2 px at 5 m, 1.25 px at 8 m
+  std::size_t first = 0, second = 0;
+  for (const std::uint32_t f : pic.face) {
+    first += f == 0 ? 1 : 0;
+    second += f == 1 ? 1 : 0;
+    ASSERT_NE(f, 2u);  // behind the camera
+  }
+  EXPECT_EQ(first, 12u);  // pixel centres within 2 px of (99.5, 49.5): offsets (0.5, 0.5), (0.5, 1.5), (1.5, 0.5) x 4
+  EXPECT_EQ(second, 0u);  // hidden behind the nearer disc
+  EXPECT_NEAR(pic.depth.at(100, 50), 5.0f, 1e-5f);
+  EXPECT_EQ(pic.colour.at(100, 50, 0), 1.0f);
+}
+
 }  // namespace
 }  // namespace artemis::render

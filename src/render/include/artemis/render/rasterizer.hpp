@@ -53,4 +53,11 @@ struct Picture {
 // non-finite vertices make a face invisible, never a crash.
 Picture rasterize(const MeshArrays& mesh, const View& view, std::span<const std::uint32_t> faces = {});
 
+// Draws points as screen-facing discs of world radius `radius_m` (at least half a pixel), each of
+// its point's colour, the nearest point winning per pixel (ties: the lower index); `face` holds
+// the point index. This is what a coloured point cloud looks like rendered: the baseline a mesh's
+// texture is compared with. Points behind the camera or non-finite are left out.
+Picture splat(std::span<const Eigen::Vector3f> points, std::span<const Eigen::Vector3f> colours, double radius_m,
+              const View& view);
+
 }  // namespace artemis::render

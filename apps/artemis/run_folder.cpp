@@ -1,0 +1,59 @@
+#include "run_folder.hpp"
+
+#include <fmt/format.h>
+
+#include <fstream>
+#include <sstream>
+
+namespace artemis::cli {
+
+namespace fs = std::filesystem;
+
+Result<nlohmann::json> readJsonFile(const fs::path& path, const std::string& missing_hint) {
+  std::error_code ec;
+  if (!fs::is_regular_file(path, ec)) return notFound(fmt::format("{}: not found{}", path.string(), missing_hint));
+  std::ifstream in(path);
+  if (!in) return ioError(fmt::format("{}: cannot be read", path.string()));
+  std::stringstream text;
+  text << in.rdbuf();
+  try {
+    return nlohmann::json::parse(text.str());
+  } catch (const nlohmann::json::exception& e) {
+    return parseError(fmt::format("{}: not valid JSON: {}", path.string(), e.what()));
+  }
+}
+
+Result<RunRecording> readRunRecording(const fs::path& path) {
+  auto j = readJsonFile(path, "; needed for the run's frame range");
+  if (!j) return j.status();
+  const std::string file = path.string();
+  RunRecording out;
+  if (!j->is_object() || !j->contains("dataset") || !(*j)["dataset"].is_object()) {
+    return parseError(file + ": no \"dataset\" object");
+  }
+  const auto& d = (*j)["dataset"];
+  if (d.contains("frames")) {
+    if (!d["frames"].is_string()) return parseError(file + ": dataset.frames is not a text");
+    const auto text = d["frames"].get<std::string>();
+    if (text != "all") {
+      auto range = datasets::FrameRange::parse(text);
+      if (!range) return parseError(fmt::format("{}: dataset.frames: {}", file, range.status().message()));
+      out.frames = *range;
+    }
+  }
+  if (d.contains("vertical_correction") && d["vertical_correction"].is_boolean()) {
+    out.vertical_correction = d["vertical_correction"].get<bool>();
+  }
+  if (d.contains("path") && d["path"].is_string()) {
+    out.path = d["path"].get<std::string>();
+    const fs::path dataset_path(out.path);
+    if (dataset_path.parent_path().filename() == "sequences") out.sequence = dataset_path.filename().string();
+  }
+  if (j->contains("texture") && (*j)["texture"].is_object() && (*j)["texture"].contains("holdout") &&
+      (*j)["texture"]["holdout"].is_number_integer()) {
+    out.texture_holdout = (*j)["texture"]["holdout"].get<int>();
+  }
+  return out;
+}
+
+}  // namespace artemis::cli
