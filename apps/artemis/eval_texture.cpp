@@ -11,12 +11,13 @@
 #include <memory>
 #include <nlohmann/json.hpp>
 
+#include "artemis/core/colour.hpp"
 #include "artemis/core/log.hpp"
 #include "artemis/datasets/dataset.hpp"
 #include "artemis/datasets/pose_file.hpp"
+#include "artemis/eval/geometry.hpp"
 #include "artemis/eval/texture.hpp"
 #include "artemis/io/file.hpp"
-#include "artemis/io/ply.hpp"
 #include "artemis/io/png.hpp"
 #include "artemis/render/rasterizer.hpp"
 #include "progress.hpp"
@@ -37,47 +38,25 @@ struct TextureEvalFlags {
   std::string pictures;  // folder for the rendered pictures (optional)
 };
 
+// The run's mesh with its vertex colours in linear RGB (what the renderer interpolates).
 struct ColouredMesh {
-  std::vector<Eigen::Vector3f> positions;
-  std::vector<Eigen::Vector3f> colours;  // linear RGB
-  std::vector<std::array<std::uint32_t, 3>> triangles;
+  eval::MeshArrays arrays;
+  std::vector<Eigen::Vector3f> colours;
 };
 
 Result<ColouredMesh> readColouredMesh(const fs::path& path) {
-  auto ply = io::readPly(path);
-  if (!ply) return ply.status();
-  auto x = ply->scalarAs<float>("vertex", "x");
-  auto y = ply->scalarAs<float>("vertex", "y");
-  auto z = ply->scalarAs<float>("vertex", "z");
-  if (!x || !y || !z) return parseError(fmt::format("{}: no vertex positions", path.string()));
-  auto r = ply->scalarAs<float>("vertex", "red");
-  auto g = ply->scalarAs<float>("vertex", "green");
-  auto b = ply->scalarAs<float>("vertex", "blue");
-  if (!r || !g || !b) {
+  auto arrays = eval::readMeshArrays(path);
+  if (!arrays) return arrays.status();
+  if (arrays->triangles.empty()) return parseError(fmt::format("{}: no faces", path.string()));
+  if (arrays->colours.empty()) {
     return parseError(fmt::format("{}: has no vertex colours: run with a camera and --texture on", path.string()));
   }
-  ColouredMesh mesh;
-  for (std::size_t i = 0; i < x->size(); ++i) {
-    mesh.positions.emplace_back((*x)[i], (*y)[i], (*z)[i]);
-    mesh.colours.emplace_back(eval::srgbToLinear((*r)[i] / 255.0f), eval::srgbToLinear((*g)[i] / 255.0f),
-                              eval::srgbToLinear((*b)[i] / 255.0f));
-  }
-  const io::PlyElement* faces = ply->find("face");
-  const io::PlyProperty* indices = faces != nullptr ? faces->find("vertex_indices") : nullptr;
-  if (indices == nullptr || !indices->is_list) return parseError(fmt::format("{}: no faces", path.string()));
-  auto flat = std::visit(
-      [](const auto& v) {
-        std::vector<std::uint32_t> out;
-        out.reserve(v.size());
-        for (const auto& e : v) out.push_back(static_cast<std::uint32_t>(e));
-        return out;
-      },
-      indices->values);
-  for (std::size_t f = 0; f + 1 < indices->list_offsets.size(); ++f) {
-    const std::uint32_t a = indices->list_offsets[f];
-    if (indices->list_offsets[f + 1] - a != 3)
-      return parseError(fmt::format("{}: face {} is not a triangle", path.string(), f));
-    mesh.triangles.push_back({flat[a], flat[a + 1], flat[a + 2]});
+  ColouredMesh mesh{std::move(*arrays), {}};
+  mesh.colours.reserve(mesh.arrays.colours.size());
+  for (const auto& c : mesh.arrays.colours) {
+    mesh.colours.emplace_back(static_cast<float>(srgbDecode(c[0] / 255.0)),
+                              static_cast<float>(srgbDecode(c[1] / 255.0)),
+                              static_cast<float>(srgbDecode(c[2] / 255.0)));
   }
   return mesh;
 }
@@ -97,8 +76,8 @@ Encoded encode(const render::Picture& picture, const ImageU8& real) {
         out.covered[static_cast<std::size_t>(v) * static_cast<std::size_t>(real.width()) +
                     static_cast<std::size_t>(u)] = 1;
         for (int c = 0; c < 3; ++c) {
-          const float s = eval::linearToSrgb(static_cast<float>(gain) * picture.colour.at(u, v, c));
-          out.image.at(u, v, c) = static_cast<std::uint8_t>(std::lround(255.0f * s));
+          const double s = srgbEncode(gain * static_cast<double>(picture.colour.at(u, v, c)));
+          out.image.at(u, v, c) = static_cast<std::uint8_t>(std::lround(255.0 * s));
         }
       }
     }
@@ -183,9 +162,9 @@ int runTextureEval(const TextureEvalFlags& flags) {
     view.camera = camera->camera;
     view.T_W_C = (*trajectory)[i] * camera->T_L_C;
     const Encoded rendered =
-        encode(render::rasterize({mesh->positions, mesh->triangles, mesh->colours}, view), camera->image);
+        encode(render::rasterize({mesh->arrays.vertices, mesh->arrays.triangles, mesh->colours}, view), camera->image);
     const Encoded splats =
-        encode(render::splat(mesh->positions, mesh->colours, flags.splat_radius_m, view), camera->image);
+        encode(render::splat(mesh->arrays.vertices, mesh->colours, flags.splat_radius_m, view), camera->image);
     const eval::TextureScore m = eval::compareTexture(camera->image, rendered.image, rendered.covered);
     const eval::TextureScore s = eval::compareTexture(camera->image, splats.image, splats.covered);
     mesh_tally.add(m);
@@ -195,9 +174,12 @@ int runTextureEval(const TextureEvalFlags& flags) {
                      {"splats", {{"psnr_db", s.psnr_db}, {"ssim", s.ssim}, {"covered", s.covered}}}});
     if (!flags.pictures.empty()) {
       const fs::path dir(flags.pictures);
-      (void)io::writePng(dir / fmt::format("{:06d}_mesh.png", frame->index), rendered.image);
-      (void)io::writePng(dir / fmt::format("{:06d}_splats.png", frame->index), splats.image);
-      (void)io::writePng(dir / fmt::format("{:06d}_real.png", frame->index), camera->image);
+      for (const auto& [name, image] : {std::pair{"mesh", &rendered.image}, std::pair{"splats", &splats.image},
+                                        std::pair{"real", &camera->image}}) {
+        if (Status st = io::writePng(dir / fmt::format("{:06d}_{}.png", frame->index, name), *image); !st.isOk()) {
+          log::warn("{}", st.message());
+        }
+      }
     }
     progress.update(i + 1, d.size());
   }

@@ -87,6 +87,17 @@ Result<MeshArrays> readMeshArrays(const std::filesystem::path& path) {
   }
   mesh.vertices.resize(vertex->count);
   for (std::size_t i = 0; i < vertex->count; ++i) mesh.vertices[i] = {xyz[0][i], xyz[1][i], xyz[2][i]};
+  if (vertex->find("red") != nullptr && vertex->find("green") != nullptr && vertex->find("blue") != nullptr) {
+    std::array<std::vector<std::uint8_t>, 3> rgb;
+    const std::array<const char*, 3> channels = {"red", "green", "blue"};
+    for (std::size_t c = 0; c < 3; ++c) {
+      auto column = ply->scalarAs<std::uint8_t>("vertex", channels[c]);
+      if (!column) return Status(column.status().code(), file + ": " + column.status().message());
+      rgb[c] = std::move(*column);
+    }
+    mesh.colours.resize(vertex->count);
+    for (std::size_t i = 0; i < vertex->count; ++i) mesh.colours[i] = {rgb[0][i], rgb[1][i], rgb[2][i]};
+  }
 
   const io::PlyElement* faces = ply->find("face");
   if (faces == nullptr || faces->count == 0) return mesh;

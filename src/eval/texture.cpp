@@ -1,20 +1,13 @@
 #include "artemis/eval/texture.hpp"
 
+#include "artemis/core/colour.hpp"
+
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <stdexcept>
 
 namespace artemis::eval {
-
-float srgbToLinear(float s) {
-  return s <= 0.04045f ? s / 12.92f : std::pow((s + 0.055f) / 1.055f, 2.4f);
-}
-
-float linearToSrgb(float x) {
-  x = std::clamp(x, 0.0f, 1.0f);
-  return x <= 0.0031308f ? 12.92f * x : 1.055f * std::pow(x, 1.0f / 2.4f) - 0.055f;
-}
 
 namespace {
 
@@ -134,8 +127,8 @@ TextureScore compareTexture(const ImageU8& real, const ImageU8& rendered, const 
 double exposureGain(const ImageU8& real, const ImageU8& rendered, const std::vector<std::uint8_t>& covered) {
   check(real, rendered, covered);
   const auto lum = [](const ImageU8& im, int u, int v) {
-    return 0.2126 * srgbToLinear(im.at(u, v, 0) / 255.0f) + 0.7152 * srgbToLinear(im.at(u, v, 1) / 255.0f) +
-           0.0722 * srgbToLinear(im.at(u, v, 2) / 255.0f);
+    return 0.2126 * srgbDecode(im.at(u, v, 0) / 255.0) + 0.7152 * srgbDecode(im.at(u, v, 1) / 255.0) +
+           0.0722 * srgbDecode(im.at(u, v, 2) / 255.0);
   };
   double num = 0.0, den = 0.0;
   for (int v = 0; v < real.height(); ++v) {

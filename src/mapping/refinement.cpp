@@ -10,6 +10,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "artemis/core/colour.hpp"
 #include "artemis/core/timer.hpp"
 #include "artemis/render/rasterizer.hpp"
 
@@ -23,15 +24,12 @@ struct Frustum {
   std::array<Eigen::Vector4f, 6> planes;
 
   Frustum(const PinholeCamera& c, float near, float far) {
-    const auto fx = static_cast<float>(c.fx_px);
-    const auto fy = static_cast<float>(c.fy_px);
-    const auto cx = static_cast<float>(c.cx_px);
-    const auto cy = static_cast<float>(c.cy_px);
+    const PinholeProjector k(c);
     const auto w = static_cast<float>(c.width_px);
     const auto h = static_cast<float>(c.height_px);
-    planes = {Eigen::Vector4f(0, 0, 1, -near),      Eigen::Vector4f(0, 0, -1, far),
-              Eigen::Vector4f(fx, 0, cx + 0.5f, 0), Eigen::Vector4f(-fx, 0, w - 0.5f - cx, 0),
-              Eigen::Vector4f(0, fy, cy + 0.5f, 0), Eigen::Vector4f(0, -fy, h - 0.5f - cy, 0)};
+    planes = {Eigen::Vector4f(0, 0, 1, -near),          Eigen::Vector4f(0, 0, -1, far),
+              Eigen::Vector4f(k.fx, 0, k.cx + 0.5f, 0), Eigen::Vector4f(-k.fx, 0, w - 0.5f - k.cx, 0),
+              Eigen::Vector4f(0, k.fy, k.cy + 0.5f, 0), Eigen::Vector4f(0, -k.fy, h - 0.5f - k.cy, 0)};
   }
 
   // False when the box [lo, hi] (world) lies wholly outside one plane.
@@ -61,11 +59,7 @@ struct Frustum {
 const std::array<float, 256>& srgbToLinear() {
   static const std::array<float, 256> kTable = [] {
     std::array<float, 256> t{};
-    for (int i = 0; i < 256; ++i) {
-      const double s = i / 255.0;
-      t[static_cast<std::size_t>(i)] =
-          static_cast<float>(s <= 0.04045 ? s / 12.92 : std::pow((s + 0.055) / 1.055, 2.4));
-    }
+    for (int i = 0; i < 256; ++i) t[static_cast<std::size_t>(i)] = static_cast<float>(srgbDecode(i / 255.0));
     return t;
   }();
   return kTable;
@@ -154,10 +148,7 @@ RefinementStats TextureRefinement::refine(const VoxelMap& map, SemanticMesh& mes
   const Isometry3d T_C_W = T_W_C.inverse();
   const Eigen::Matrix3f R = T_C_W.linear().cast<float>();
   const Eigen::Vector3f t = T_C_W.translation().cast<float>();
-  const auto fx = static_cast<float>(camera.fx_px);
-  const auto fy = static_cast<float>(camera.fy_px);
-  const auto cx = static_cast<float>(camera.cx_px);
-  const auto cy = static_cast<float>(camera.cy_px);
+  const PinholeProjector project(camera);
   const auto epsilon = static_cast<float>(params_.depth_epsilon_m);
   const auto& lut = srgbToLinear();
   const auto texel = [&](int u, int v) {
@@ -171,8 +162,9 @@ RefinementStats TextureRefinement::refine(const VoxelMap& map, SemanticMesh& mes
         c.vertex = voxel.vertices[j];
         const Eigen::Vector3f p_C = R * mesh.positions()[c.vertex] + t;
         if (!(p_C.z() > static_cast<float>(PinholeCamera::kMinDepthM))) continue;
-        const float u = fx * p_C.x() / p_C.z() + cx;
-        const float v = fy * p_C.y() / p_C.z() + cy;
+        const Eigen::Vector2f uv = project(p_C);
+        const float u = uv.x();
+        const float v = uv.y();
         if (!(u >= 0.0f && v >= 0.0f && u <= static_cast<float>(w - 1) && v <= static_cast<float>(h - 1))) continue;
         const int u0 = std::min(static_cast<int>(u), w - 2 < 0 ? 0 : w - 2);
         const int v0 = std::min(static_cast<int>(v), h - 2 < 0 ? 0 : h - 2);

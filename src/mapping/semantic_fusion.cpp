@@ -36,18 +36,16 @@ FusionStats SemanticFusion::fuse(const PointCloud& points_L, const VoxelMap& map
   const Isometry3d T_C_L = view.T_L_C.inverse();
   const Eigen::Matrix3f R_C_L = T_C_L.linear().cast<float>();
   const Eigen::Vector3f t_C_L = T_C_L.translation().cast<float>();
-  const auto fx = static_cast<float>(view.camera.fx_px);
-  const auto fy = static_cast<float>(view.camera.fy_px);
-  const auto cx = static_cast<float>(view.camera.cx_px);
-  const auto cy = static_cast<float>(view.camera.cy_px);
+  const PinholeProjector project(view.camera);
   constexpr float kFar = std::numeric_limits<float>::max();
   depth_.assign(static_cast<std::size_t>(w) * static_cast<std::size_t>(h), kFar);
   projected_.clear();
   for (std::size_t i = 0; i < points_L.size(); ++i) {
     const Eigen::Vector3f p_C = R_C_L * points_L.points[i] + t_C_L;
     if (!(p_C.z() > static_cast<float>(PinholeCamera::kMinDepthM))) continue;
-    const float u = fx * p_C.x() / p_C.z() + cx;
-    const float v = fy * p_C.y() / p_C.z() + cy;
+    const Eigen::Vector2f uv = project(p_C);
+    const float u = uv.x();
+    const float v = uv.y();
     if (!(u >= -0.5f && v >= -0.5f && u < static_cast<float>(w) - 0.5f && v < static_cast<float>(h) - 0.5f)) continue;
     const auto pixel = static_cast<std::size_t>(std::floor(v + 0.5f)) * static_cast<std::size_t>(w) +
                        static_cast<std::size_t>(std::floor(u + 0.5f));

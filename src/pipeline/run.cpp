@@ -11,6 +11,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "artemis/core/colour.hpp"
 #include "artemis/core/log.hpp"
 #include "artemis/core/timer.hpp"
 #include "artemis/io/file.hpp"
@@ -53,9 +54,8 @@ Status writeMeshPly(const mapping::SemanticMesh& mesh, const fs::path& path, con
       if (!mesh.hasColour(compact.vertex_ids[i])) continue;
       const Eigen::Vector3f c = mesh.colourMean(compact.vertex_ids[i]);
       for (int k = 0; k < 3; ++k) {
-        const double x = std::clamp(static_cast<double>(c(k)), 0.0, 1.0);
-        const double s = x <= 0.0031308 ? 12.92 * x : 1.055 * std::pow(x, 1.0 / 2.4) - 0.055;
-        rgb[3 * i + static_cast<std::size_t>(k)] = static_cast<std::uint8_t>(std::lround(255.0 * s));
+        rgb[3 * i + static_cast<std::size_t>(k)] =
+            static_cast<std::uint8_t>(std::lround(255.0 * srgbEncode(static_cast<double>(c(k)))));
       }
     }
   }
@@ -344,7 +344,6 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
         Stopwatch refine_clock;
         const mapping::RefinementStats r = mapper.refine(*view, T_W_L);
         report.times.add("refine", refine_clock.elapsedMs());
-        report.vertices_textured_per_frame.push_back(r.vertices_updated);
         log::debug(
             "frame {}: refinement: {} voxels in view, {} faces rendered, {} vertices in view, {} updated, "
             "gain {:.3f}; cull {:.1f} ms, depth {:.1f} ms, fuse {:.1f} ms",

@@ -36,10 +36,7 @@ Picture rasterize(const MeshArrays& mesh, const View& view, std::span<const std:
   const Isometry3d T_C_W = view.T_W_C.inverse();
   const Eigen::Matrix3f R = T_C_W.linear().cast<float>();
   const Eigen::Vector3f t = T_C_W.translation().cast<float>();
-  const auto fx = static_cast<float>(view.camera.fx_px);
-  const auto fy = static_cast<float>(view.camera.fy_px);
-  const auto cx = static_cast<float>(view.camera.cx_px);
-  const auto cy = static_cast<float>(view.camera.cy_px);
+  const PinholeProjector project(view.camera);
   const auto near = static_cast<float>(view.near_m);
   const auto far = static_cast<float>(view.far_m);
 
@@ -63,7 +60,7 @@ Picture rasterize(const MeshArrays& mesh, const View& view, std::span<const std:
           break;
         }
         s.inv_z[c] = 1.0f / p_C.z();
-        s.p[c] = Eigen::Vector2f(fx * p_C.x() * s.inv_z[c] + cx, fy * p_C.y() * s.inv_z[c] + cy);
+        s.p[c] = project(p_C);
       }
       if (!ok) continue;
       const float lo_u = std::min({s.p[0].x(), s.p[1].x(), s.p[2].x()});
@@ -159,17 +156,15 @@ Picture splat(std::span<const Eigen::Vector3f> points, std::span<const Eigen::Ve
   const Isometry3d T_C_W = view.T_W_C.inverse();
   const Eigen::Matrix3f R = T_C_W.linear().cast<float>();
   const Eigen::Vector3f t = T_C_W.translation().cast<float>();
-  const auto fx = static_cast<float>(view.camera.fx_px);
-  const auto fy = static_cast<float>(view.camera.fy_px);
-  const auto cx = static_cast<float>(view.camera.cx_px);
-  const auto cy = static_cast<float>(view.camera.cy_px);
+  const PinholeProjector project(view.camera);
   const auto r = static_cast<float>(radius_m);
   for (std::size_t i = 0; i < points.size(); ++i) {
     const Eigen::Vector3f p = R * points[i] + t;
     if (!(p.z() >= static_cast<float>(view.near_m) && p.z() <= static_cast<float>(view.far_m))) continue;
-    const float u = fx * p.x() / p.z() + cx;
-    const float v = fy * p.y() / p.z() + cy;
-    const float rad = std::max(0.5f, fx * r / p.z());
+    const Eigen::Vector2f uv = project(p);
+    const float u = uv.x();
+    const float v = uv.y();
+    const float rad = std::max(0.5f, project.fx * r / p.z());
     const int u0 = std::max(0, static_cast<int>(std::ceil(u - rad)));
     const int u1 = std::min(w - 1, static_cast<int>(std::floor(u + rad)));
     const int v0 = std::max(0, static_cast<int>(std::ceil(v - rad)));

@@ -57,6 +57,22 @@ TEST(MeshFile, VertexIndexNameAndSignedTypesAndDoubleCoordinates) {
   EXPECT_EQ(mesh->vertices[1], Eigen::Vector3f(1.F, 0.F, 0.5F));
 }
 
+TEST(MeshFile, VertexColoursAreReadWhenPresent) {
+  artemis::test::TempDir tmp;
+  io::PlyData ply = squareVertices();
+  ASSERT_TRUE(io::writePly(tmp / "plain.ply", ply).isOk());
+  EXPECT_TRUE(readMeshArrays(tmp / "plain.ply")->colours.empty());
+  ASSERT_TRUE(ply.setScalar<std::uint8_t>("vertex", "red", {255, 0, 0, 10, 20}).isOk());
+  ASSERT_TRUE(ply.setScalar<std::uint8_t>("vertex", "green", {0, 255, 0, 11, 21}).isOk());
+  ASSERT_TRUE(ply.setScalar<std::uint8_t>("vertex", "blue", {0, 0, 255, 12, 22}).isOk());
+  ASSERT_TRUE(io::writePly(tmp / "rgb.ply", ply).isOk());
+  const auto mesh = readMeshArrays(tmp / "rgb.ply");
+  ASSERT_TRUE(mesh.isOk()) << mesh.status().toString();
+  ASSERT_EQ(mesh->colours.size(), 5U);
+  EXPECT_EQ(mesh->colours[1], (std::array<std::uint8_t, 3>{0, 255, 0}));
+  EXPECT_EQ(mesh->colours[4], (std::array<std::uint8_t, 3>{20, 21, 22}));
+}
+
 TEST(MeshFile, CloudHasNoTriangles) {
   artemis::test::TempDir tmp;
   io::PlyData ply = squareVertices();

@@ -1,6 +1,8 @@
 // PSNR, SSIM and the exposure gain of the texture evaluation on images with known answers.
 #include "artemis/eval/texture.hpp"
 
+#include "artemis/core/colour.hpp"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -61,14 +63,15 @@ TEST(TextureScore, ExposureGainMatchesADarkerRendering) {
   for (int v = 0; v < 32; ++v) {
     for (int u = 0; u < 64; ++u) {
       for (int c = 0; c < 3; ++c) {
-        const float x = 0.5f * srgbToLinear(real.at(u, v, c) / 255.0f);
-        dark.at(u, v, c) = static_cast<std::uint8_t>(std::lround(255.0f * linearToSrgb(x)));
+        const double x = 0.5 * srgbDecode(real.at(u, v, c) / 255.0);
+        dark.at(u, v, c) = static_cast<std::uint8_t>(std::lround(255.0 * srgbEncode(x)));
       }
     }
   }
   std::vector<std::uint8_t> covered(64 * 32, 1);
   EXPECT_NEAR(exposureGain(real, dark, covered), 2.0, 0.02);
-  EXPECT_NEAR(srgbToLinear(linearToSrgb(0.3f)), 0.3f, 1e-5f);
+  EXPECT_NEAR(srgbDecode(srgbEncode(0.3)), 0.3, 1e-9);
+  EXPECT_NEAR(srgbDecode(128.0 / 255.0), 0.2158, 1e-4);
 }
 
 }  // namespace

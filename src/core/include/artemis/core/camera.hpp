@@ -30,4 +30,18 @@ struct PinholeCamera {
   [[nodiscard]] bool valid() const { return width_px > 0 && height_px > 0 && fx_px > 0.0 && fy_px > 0.0; }
 };
 
+// The same projection in single precision, for loops over many points (no checks: the caller
+// rejects points with z <= kMinDepthM first).
+struct PinholeProjector {
+  explicit PinholeProjector(const PinholeCamera& c)
+      : fx(static_cast<float>(c.fx_px)),
+        fy(static_cast<float>(c.fy_px)),
+        cx(static_cast<float>(c.cx_px)),
+        cy(static_cast<float>(c.cy_px)) {}
+  [[nodiscard]] Eigen::Vector2f operator()(const Eigen::Vector3f& p_C) const {
+    return {fx * p_C.x() / p_C.z() + cx, fy * p_C.y() / p_C.z() + cy};
+  }
+  float fx, fy, cx, cy;
+};
+
 }  // namespace artemis

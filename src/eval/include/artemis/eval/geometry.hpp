@@ -24,6 +24,7 @@ namespace artemis::eval {
 struct MeshArrays {
   std::vector<Eigen::Vector3f> vertices;
   std::vector<std::array<std::uint32_t, 3>> triangles;  // empty for a point cloud
+  std::vector<std::array<std::uint8_t, 3>> colours;     // sRGB per vertex when the file has them, else empty
 };
 
 struct GeometryParams {
@@ -85,7 +86,8 @@ using Progress = std::function<void(const std::string& stage, std::size_t done, 
 Result<std::vector<GeometryScore>> evaluateGeometry(const MeshArrays& mesh, const Reference& reference,
                                                     const GeometryParams& params, const Progress& progress = {});
 
-// Reads a PLY as vertices (x, y, z) and, when it has faces, triangles (polygons are fanned).
+// Reads a PLY as vertices (x, y, z) and, when it has them, vertex colours (red, green, blue, as
+// 8-bit values) and triangles (polygons are fanned).
 // Errors name the file and the problem.
 Result<MeshArrays> readMeshArrays(const std::filesystem::path& path);
 

@@ -31,8 +31,4 @@ TextureScore compareTexture(const ImageU8& real, const ImageU8& rendered, const 
 // view's exposure before comparing. 1 without covered pixels.
 double exposureGain(const ImageU8& real, const ImageU8& rendered, const std::vector<std::uint8_t>& covered);
 
-// sRGB <-> linear RGB, 0..1.
-float srgbToLinear(float s);
-float linearToSrgb(float x);
-
 }  // namespace artemis::eval

@@ -46,8 +46,6 @@ class VoxelMap {
   // Returns the keys of voxels that gained points, in order of first gain (deterministic).
   std::vector<VoxelKey> insert(const std::vector<Eigen::Vector3f>& points_W, const Eigen::Vector3f& sensor_W,
                                SemanticMesh& mesh);
-  // The vertex holding the sub-cell p_W falls in, or kNoVertex when that sub-cell is empty.
-  [[nodiscard]] std::uint32_t vertexAt(const Eigen::Vector3f& p_W) const;
   // The vertex holding the sub-cell of point i of the last insert() (the point itself, or the one
   // that was there before), or kNoVertex for a refused point. Valid until the next insert().
   [[nodiscard]] std::uint32_t insertedVertex(std::size_t i) const;

@@ -79,10 +79,9 @@ struct RunReport {
   // (no image, no mask file, a segmenter error; each logged).
   std::size_t frames_observed = 0;
   std::size_t frames_unobserved = 0;
-  std::size_t vertices_labelled = 0;                     // mesh vertices with a class
-  std::string segmented_camera;                          // the camera whose images were segmented
-  std::vector<std::size_t> held_out_frames;              // recording indices left out of texturing
-  std::vector<std::size_t> vertices_textured_per_frame;  // per textured frame
+  std::size_t vertices_labelled = 0;         // mesh vertices with a class
+  std::string segmented_camera;              // the camera whose images were segmented
+  std::vector<std::size_t> held_out_frames;  // recording indices left out of texturing
 };
 
 using ProgressFn = std::function<void(std::size_t done, std::size_t total)>;
