@@ -127,7 +127,11 @@ nlohmann::ordered_json configJson(const RunFlags& f, const std::string& dataset_
                 {"depth_window_px", m.semantics.depth_window_px},
                 {"background_score", m.semantics.background_score},
                 {"confidence_lambda", m.semantics.confidence_lambda},
-                {"voxel_prior", m.semantics.voxel_prior}};
+                {"voxel_prior", m.semantics.voxel_prior},
+                {"semantic_refinement", m.refinement.semantic_refinement},
+                {"mask_floor", m.refinement.mask_floor},
+                {"mask_border_px", m.refinement.mask_border_px},
+                {"stage_one_weight", m.refinement.stage_one_weight}};
   }
   return {{"dataset",
            {{"path", dataset_path},
@@ -170,7 +174,8 @@ nlohmann::ordered_json configJson(const RunFlags& f, const std::string& dataset_
             {"depth_epsilon_m", m.refinement.depth_epsilon_m},
             {"min_reliability", m.refinement.min_reliability},
             {"sigma_obs", m.refinement.sigma_obs},
-            {"exposure_gain", m.refinement.exposure_gain}}}};
+            {"exposure_gain", m.refinement.exposure_gain},
+            {"lidar_window_px", m.refinement.lidar_window_px}}}};
 }
 
 // With no recording given: simulate the demo street into <out>/sim and map that.
@@ -199,6 +204,7 @@ int runRun(RunFlags flags) {
     }
     flags.dataset.path = *demo;
   }
+  flags.params.mapper.refinement.background_score = flags.params.mapper.semantics.background_score;
   // Images are read for texture and semantics.
   auto dataset = flags.dataset.open(/*load_images=*/!flags.segmenter.empty() || flags.texture != "off");
   if (!dataset) {
@@ -262,11 +268,15 @@ int runRun(RunFlags flags) {
       "{:.1f} / {:.1f}; final meshing {:.0f} ms; peak memory {:.0f} MB; {:.1f} s in all\n",
       insert.median_ms, insert.p95_ms, mesh.median_ms, mesh.p95_ms, total.median_ms, total.p95_ms, report->finish_ms,
       report->peak_rss_mb, clock.elapsedS());
-  if (flags.params.texture) {
+  if (!report->times.samples("refine").empty()) {
     const auto refine_t = report->times.summary("refine");
-    fmt::print("texture: {} frames refined, {} held out; refine per frame (median / p95 ms) {:.1f} / {:.1f}\n",
-               report->times.samples("refine").size(), report->held_out_frames.size(), refine_t.median_ms,
-               refine_t.p95_ms);
+    if (flags.params.texture) {
+      fmt::print("texture: {} frames refined, {} held out\n", report->frames_textured, report->held_out_frames.size());
+    }
+    if (report->frames_semantic_refined > 0) {
+      fmt::print("semantic refinement: {} frames\n", report->frames_semantic_refined);
+    }
+    fmt::print("refine per frame (median / p95 ms) {:.1f} / {:.1f}\n", refine_t.median_ms, refine_t.p95_ms);
   }
   if (*semantic) {
     const auto fuse = report->times.summary("fuse");
@@ -341,6 +351,11 @@ void addRunCommand(CLI::App& app, int& exit_code) {
   cmd->add_option("--sigma-geom", rp.sigma_geom, "Texture: sigma_geom of eq. 9 (relative depth)")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
+  cmd->add_option("--lidar-window", rp.lidar_window_px,
+                  "Refinement: the reference depth is the nearer of the mesh's z-buffer and the frame's LiDAR depth "
+                  "within this many pixels; -1: the z-buffer alone")
+      ->capture_default_str()
+      ->check(CLI::Range(-1, 16));
   cmd->add_option("-q,--query", flags->queries,
                   "Classes to segment and fuse, in words (\"cars and buildings\", \"vegetation\"); repeat for more. "
                   "Needs --segmenter")
@@ -371,6 +386,20 @@ void addRunCommand(CLI::App& app, int& exit_code) {
                   "Confidence of a pixel outside every mask (\"none of the prompted classes\")")
       ->capture_default_str()
       ->check(CLI::Range(0.0, 1.0));
+  cmd->add_flag(
+      "--no-semantic-refinement", [&rp](std::int64_t) { rp.semantic_refinement = false; },
+      "Keep stage 1's classes: no per-vertex log-probability update from the views (eq. 12-13)");
+  cmd->add_option("--mask-floor", rp.mask_floor, "Semantic refinement: the least P_mask (eq. 13)")
+      ->capture_default_str()
+      ->check(CLI::Range(1e-6, 0.5));
+  cmd->add_option("--stage-one-weight", rp.stage_one_weight,
+                  "Semantic refinement: how many views stage 1's distribution counts as in the read-out")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--mask-border", rp.mask_border_px,
+                  "Semantic refinement: a vertex whose pixel is this close to another mask observes nothing (px)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 64));
   cmd->callback([flags, &exit_code] { exit_code = runRun(*flags); });
 }
 

@@ -52,6 +52,7 @@ Mapper::Mapper(const MapperParams& params)
       refinement_(params.refinement),
       arena_(std::make_unique<Arena>(params.threads)) {
   mesh_.setVoxelPrior(static_cast<float>(params.semantics.voxel_prior));
+  mesh_.setStageOneWeight(static_cast<float>(params.refinement.stage_one_weight));
 }
 
 Mapper::~Mapper() = default;
@@ -99,9 +100,9 @@ FrameStats Mapper::integrate(const PointCloud& points_L, const Isometry3d& T_W_L
   return stats;
 }
 
-RefinementStats Mapper::refine(const CameraView& view, const Isometry3d& T_W_L) {
+RefinementStats Mapper::refine(const RefinementInput& input, const Isometry3d& T_W_L) {
   RefinementStats stats;
-  arena_->arena.execute([&] { stats = refinement_.refine(map_, mesh_, view, T_W_L); });
+  arena_->arena.execute([&] { stats = refinement_.refine(map_, mesh_, input, T_W_L); });
   return stats;
 }
 

@@ -2,6 +2,7 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_invoke.h>
 
 #include <algorithm>
 #include <array>
@@ -9,6 +10,7 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <utility>
 
 #include "artemis/core/colour.hpp"
 #include "artemis/core/timer.hpp"
@@ -73,8 +75,58 @@ struct Candidate {
   std::uint32_t vertex = 0;
   Eigen::Vector3f colour = Eigen::Vector3f::Zero();  // linear RGB, before the gain
   float r_geom = 0.0f;
+  float reliability = 0.0f;  // W
+  int u = 0;                 // nearest pixel
+  int v = 0;
   bool valid = false;
 };
+
+// The frame's LiDAR depth seen from the camera: per pixel the nearest point's depth, then the
+// least over a (2 r + 1)^2 window (separable), which bridges the gaps between beams and marks the
+// pixels just beside a nearer object's silhouette.
+void lidarDepth(const PointCloud& points_L, const CameraView& view, int r, std::vector<float>& out) {
+  const int w = view.image.width();
+  const int h = view.image.height();
+  constexpr float kFar = std::numeric_limits<float>::infinity();
+  out.assign(static_cast<std::size_t>(w) * static_cast<std::size_t>(h), kFar);
+  const Isometry3d T_C_L = view.T_L_C.inverse();
+  const Eigen::Matrix3f R = T_C_L.linear().cast<float>();
+  const Eigen::Vector3f t = T_C_L.translation().cast<float>();
+  const PinholeProjector project(view.camera);
+  for (const Eigen::Vector3f& p_L : points_L.points) {
+    const Eigen::Vector3f p_C = R * p_L + t;
+    if (!(p_C.z() > static_cast<float>(PinholeCamera::kMinDepthM))) continue;
+    const Eigen::Vector2f uv = project(p_C);
+    const int u = static_cast<int>(std::lround(uv.x()));
+    const int v = static_cast<int>(std::lround(uv.y()));
+    if (u < 0 || v < 0 || u >= w || v >= h) continue;
+    float& d = out[static_cast<std::size_t>(v) * static_cast<std::size_t>(w) + static_cast<std::size_t>(u)];
+    d = std::min(d, p_C.z());
+  }
+  if (r == 0) return;
+  std::vector<float> row(static_cast<std::size_t>(std::max(w, h)));
+  for (int v = 0; v < h; ++v) {  // horizontal
+    float* line = &out[static_cast<std::size_t>(v) * static_cast<std::size_t>(w)];
+    std::copy_n(line, w, row.data());
+    for (int u = 0; u < w; ++u) {
+      float m = kFar;
+      for (int k = std::max(0, u - r); k <= std::min(w - 1, u + r); ++k)
+        m = std::min(m, row[static_cast<std::size_t>(k)]);
+      line[u] = m;
+    }
+  }
+  for (int u = 0; u < w; ++u) {  // vertical
+    for (int v = 0; v < h; ++v)
+      row[static_cast<std::size_t>(v)] =
+          out[static_cast<std::size_t>(v) * static_cast<std::size_t>(w) + static_cast<std::size_t>(u)];
+    for (int v = 0; v < h; ++v) {
+      float m = kFar;
+      for (int k = std::max(0, v - r); k <= std::min(h - 1, v + r); ++k)
+        m = std::min(m, row[static_cast<std::size_t>(k)]);
+      out[static_cast<std::size_t>(v) * static_cast<std::size_t>(w) + static_cast<std::size_t>(u)] = m;
+    }
+  }
+}
 
 }  // namespace
 
@@ -101,20 +153,30 @@ std::vector<std::uint32_t> voxelsInView(const VoxelMap& map, const PinholeCamera
   return out;
 }
 
-TextureRefinement::TextureRefinement(const RefinementParams& params) : params_(params) {
+Refinement::Refinement(const RefinementParams& params) : params_(params) {
   if (!(params.sigma_photo > 0.0) || !(params.sigma_geom > 0.0) || !(params.depth_epsilon_m > 0.0) ||
       !(params.sigma_obs > 0.0) || !(params.min_reliability >= 0.0 && params.min_reliability <= 1.0) ||
-      !(params.max_range_m > 0.0)) {
+      !(params.max_range_m > 0.0) || !(params.mask_floor > 0.0 && params.mask_floor < 1.0) ||
+      !(params.background_score > 0.0 && params.background_score <= 1.0) || !(params.stage_one_weight > 0.0) ||
+      params.mask_border_px < 0) {
     throw std::invalid_argument(
-        "refinement: sigma_photo, sigma_geom, depth_epsilon_m, sigma_obs and max_range_m must be > 0 and "
-        "min_reliability in [0, 1]");
+        "refinement: sigma_photo, sigma_geom, depth_epsilon_m, sigma_obs and max_range_m must be > 0, "
+        "min_reliability in [0, 1], mask_floor in (0, 1), background_score in (0, 1], stage_one_weight > 0 and "
+        "mask_border_px >= 0");
   }
 }
 
-RefinementStats TextureRefinement::refine(const VoxelMap& map, SemanticMesh& mesh, const CameraView& view,
-                                          const Isometry3d& T_W_L) {
+RefinementStats Refinement::refine(const VoxelMap& map, SemanticMesh& mesh, const RefinementInput& input,
+                                   const Isometry3d& T_W_L) {
   RefinementStats stats;
-  if (!view.hasImage() || view.image.channels() < 3) return stats;
+  if (input.view == nullptr || !input.view->hasImage() || input.view->image.channels() < 3) return stats;
+  const CameraView& view = *input.view;
+  const semantics::SemanticObservation* observation = params_.semantic_refinement && input.observation != nullptr &&
+                                                              input.observation->observed && mesh.slotCount() >= 2
+                                                          ? input.observation
+                                                          : nullptr;
+  const bool texture = input.texture;
+  if (!texture && observation == nullptr) return stats;
   const PinholeCamera& camera = view.camera;
   const int w = view.image.width();
   const int h = view.image.height();
@@ -137,7 +199,12 @@ RefinementStats TextureRefinement::refine(const VoxelMap& map, SemanticMesh& mes
   render_view.camera = camera;
   render_view.T_W_C = T_W_C;
   render_view.far_m = params_.max_range_m * 2.0;
-  const render::Picture reference = render::rasterize({mesh.positions(), faces, {}}, render_view);
+  render::Picture reference = render::rasterize({mesh.positions(), faces, {}}, render_view);
+  if (input.points_L != nullptr && params_.lidar_window_px >= 0) {
+    lidarDepth(*input.points_L, view, params_.lidar_window_px, lidar_depth_);
+    std::vector<float>& z = reference.depth.data();
+    for (std::size_t k = 0; k < lidar_depth_.size(); ++k) z[k] = std::min(z[k], lidar_depth_[k]);
+  }
   stats.depth_ms = clock.elapsedMs();
 
   // 3. Each vertex of those voxels: its pixel, colour (bilinear) and geometric residual.
@@ -174,7 +241,9 @@ RefinementStats TextureRefinement::refine(const VoxelMap& map, SemanticMesh& mes
         const int v1 = std::min(v0 + 1, h - 1);
         c.colour = (1 - a) * (1 - b) * texel(u0, v0) + a * (1 - b) * texel(u1, v0) + (1 - a) * b * texel(u0, v1) +
                    a * b * texel(u1, v1);
-        const float d_ref = reference.depth.at(static_cast<int>(std::lround(u)), static_cast<int>(std::lround(v)));
+        c.u = static_cast<int>(std::lround(u));
+        c.v = static_cast<int>(std::lround(v));
+        const float d_ref = reference.depth.at(c.u, c.v);
         c.r_geom = std::isfinite(d_ref) ? std::abs(p_C.z() - d_ref) / std::max(d_ref, epsilon) : 0.0f;
         c.valid = true;
       }
@@ -199,25 +268,97 @@ RefinementStats TextureRefinement::refine(const VoxelMap& map, SemanticMesh& mes
   }
   stats.gain = gain;
 
-  // 5. eq. 9-10 and the Bayesian colour update, vertex by vertex in a fixed order.
+  // 5. eq. 9-10: W of every candidate, against the colour means before this view's update.
   const auto inv_gain = static_cast<float>(1.0 / gain);
   const auto inv_sp = static_cast<float>(1.0 / params_.sigma_photo);
   const auto inv_sg = static_cast<float>(1.0 / params_.sigma_geom);
-  const auto obs_var = static_cast<float>(params_.sigma_obs * params_.sigma_obs);
   const auto min_w = static_cast<float>(params_.min_reliability);
-  for (const Candidate& c : candidates) {
-    if (!c.valid) continue;
-    const Eigen::Vector3f colour = c.colour * inv_gain;
-    float reliability = 1.0f;
-    if (params_.reliability) {
-      const float r_photo = mesh.hasColour(c.vertex) ? (colour - mesh.colourMean(c.vertex)).norm() : 0.0f;
-      const float e = r_photo * inv_sp;
-      const float g = c.r_geom * inv_sg;
-      reliability = std::exp(-0.5f * (e * e + g * g));
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, candidates.size(), 4096), [&](const auto& range) {
+    for (std::size_t k = range.begin(); k < range.end(); ++k) {
+      Candidate& c = candidates[k];
+      if (!c.valid) continue;
+      c.colour *= inv_gain;
+      float reliability = 1.0f;
+      if (params_.reliability) {
+        const float r_photo = mesh.hasColour(c.vertex) ? (c.colour - mesh.colourMean(c.vertex)).norm() : 0.0f;
+        const float e = r_photo * inv_sp;
+        const float g = c.r_geom * inv_sg;
+        reliability = std::exp(-0.5f * (e * e + g * g));
+      }
+      c.reliability = reliability >= min_w && reliability > 0.0f ? reliability : 0.0f;
     }
-    if (!(reliability >= min_w) || !(reliability > 0.0f)) continue;
-    mesh.fuseColour(c.vertex, colour, obs_var / reliability);
-    ++stats.vertices_updated;
+  });
+
+  // 6. The updates, texture and semantics side by side; every candidate is a distinct vertex.
+  const auto obs_var = static_cast<float>(params_.sigma_obs * params_.sigma_obs);
+  const auto fuse_texture = [&] {
+    mesh.reserveColours();
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, candidates.size(), 4096), [&](const auto& range) {
+      for (std::size_t k = range.begin(); k < range.end(); ++k) {
+        const Candidate& c = candidates[k];
+        if (c.reliability > 0.0f) mesh.fuseColour(c.vertex, c.colour, obs_var / c.reliability);
+      }
+    });
+  };
+  const auto refine_semantics = [&] {
+    // log P_mask per mask id (0: outside every mask): of its own slot, and of every other slot.
+    const float slots = static_cast<float>(mesh.slotCount());
+    const auto floor = static_cast<float>(params_.mask_floor);
+    const auto likelihood = [&](double score) {
+      const auto s = static_cast<float>(score);
+      return std::pair{std::log(std::max(s, floor)), std::log(std::max((1.0f - s) / (slots - 1.0f), floor))};
+    };
+    struct MaskTerm {
+      std::size_t slot;
+      float log_hit;
+      float log_miss;
+    };
+    std::vector<MaskTerm> terms;
+    terms.reserve(observation->masks.size() + 1);
+    const auto [bg_hit, bg_miss] = likelihood(params_.background_score);
+    terms.push_back({0, bg_hit, bg_miss});
+    for (const semantics::Mask& m : observation->masks) {
+      const int slot = mesh.slotOf(m.class_id);
+      if (slot < 0) throw std::logic_error("refinement: a mask's class has no slot in the mesh");
+      const auto [hit, miss] = likelihood(m.score);
+      terms.push_back({static_cast<std::size_t>(slot), hit, miss});
+    }
+    mesh.reserveRefinement();
+    const ImageU16& ids = observation->mask_ids;
+    const int border = params_.mask_border_px;
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, candidates.size(), 4096), [&](const auto& range) {
+      for (std::size_t k = range.begin(); k < range.end(); ++k) {
+        const Candidate& c = candidates[k];
+        if (!(c.reliability > 0.0f) || !ids.contains(c.u, c.v)) continue;
+        const std::size_t id = ids.at(c.u, c.v);
+        if (id >= terms.size()) continue;  // not a mask of this observation (validate() reports these)
+        if (border > 0) {
+          bool inside = true;
+          for (int dv = -border; dv <= border && inside; dv += border) {
+            for (int du = -border; du <= border && inside; du += border) {
+              const int x = std::clamp(c.u + du, 0, ids.width() - 1);
+              const int y = std::clamp(c.v + dv, 0, ids.height() - 1);
+              inside = ids.at(x, y) == id;
+            }
+          }
+          if (!inside) continue;
+        }
+        const MaskTerm& term = terms[id];
+        mesh.addLogLikelihood(c.vertex, term.slot, term.log_hit, term.log_miss, c.reliability);
+      }
+    });
+  };
+  if (texture && observation != nullptr) {
+    tbb::parallel_invoke(fuse_texture, refine_semantics);
+  } else if (texture) {
+    fuse_texture();
+  } else {
+    refine_semantics();
+  }
+  for (const Candidate& c : candidates) {
+    if (!(c.reliability > 0.0f)) continue;
+    stats.vertices_updated += texture ? 1 : 0;
+    stats.vertices_labelled += observation != nullptr ? 1 : 0;
   }
   stats.fuse_ms = clock.elapsedMs();
   return stats;

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <limits>
 
 namespace artemis::mapping {
 
@@ -28,6 +29,11 @@ std::size_t SemanticMesh::addSemanticClass(semantics::ClassId cls) {
   };
   relayout(evidence_, semantic_weight_.size());
   relayout(voxel_evidence_, voxel_weight_.size());
+  // Views so far saw the new class as "none of the prompted classes": it starts with slot 0's lambda.
+  relayout(log_likelihood_, refined_weight_.size());
+  for (std::size_t i = 0; i < refined_weight_.size(); ++i) {
+    log_likelihood_[i * slots_.size() + old_slots] = log_likelihood_[i * slots_.size()];
+  }
   return slots_.size() - 1;
 }
 
@@ -60,12 +66,45 @@ float SemanticMesh::voxelSemanticWeight(std::uint32_t v) const {
   return voxel < voxel_weight_.size() ? voxel_weight_[voxel] : 0.0f;
 }
 
+void SemanticMesh::reserveRefinement() {
+  refined_weight_.resize(positions_.size(), 0.0f);
+  log_likelihood_.resize(positions_.size() * slots_.size(), 0.0f);
+}
+
+void SemanticMesh::addLogLikelihood(std::uint32_t v, std::size_t hit_slot, float log_hit, float log_miss, float w) {
+  float* lambda = &log_likelihood_[static_cast<std::size_t>(v) * slots_.size()];
+  for (std::size_t s = 0; s < slots_.size(); ++s) lambda[s] += w * (s == hit_slot ? log_hit : log_miss);
+  refined_weight_[v] += w;
+}
+
 bool SemanticMesh::distribution(std::uint32_t v, float* out) const {
   const std::size_t n = slots_.size();
   std::fill_n(out, n, 0.0f);
   const float w_cell = semanticWeight(v);
   const float w_voxel = voxelSemanticWeight(v);
-  if (!(w_cell > 0.0f) && !(w_voxel > 0.0f)) return false;
+  const bool refined = refinedWeight(v) > 0.0f;
+  if (!(w_cell > 0.0f) && !(w_voxel > 0.0f)) {
+    if (!refined) return false;
+    std::fill_n(out, n, 1.0f / static_cast<float>(n));  // a flat prior
+  } else {
+    stageOne(v, w_cell, w_voxel, out);
+  }
+  if (!refined) return true;
+  // Softmax of lambda + log(prior).
+  const float* lambda = &log_likelihood_[static_cast<std::size_t>(v) * n];
+  float top = -std::numeric_limits<float>::infinity();
+  for (std::size_t s = 0; s < n; ++s) {
+    out[s] = lambda[s] + stage_one_weight_ * std::log(std::max(out[s], kStageOneFloor));
+    top = std::max(top, out[s]);
+  }
+  float sum = 0.0f;
+  for (std::size_t s = 0; s < n; ++s) sum += (out[s] = std::exp(out[s] - top));
+  for (std::size_t s = 0; s < n; ++s) out[s] /= sum;
+  return true;
+}
+
+void SemanticMesh::stageOne(std::uint32_t v, float w_cell, float w_voxel, float* out) const {
+  const std::size_t n = slots_.size();
   float sum = 0.0f;
   if (w_cell > 0.0f) {
     const float* e = &evidence_[static_cast<std::size_t>(v) * n];
@@ -79,7 +118,6 @@ bool SemanticMesh::distribution(std::uint32_t v, float* out) const {
     sum += voxel_prior_;
   }
   for (std::size_t s = 0; s < n; ++s) out[s] /= sum;
-  return true;
 }
 
 semantics::ClassId SemanticMesh::vertexClass(std::uint32_t v) const {
@@ -97,11 +135,13 @@ float SemanticMesh::confidence(std::uint32_t v, double lambda) const {
   return static_cast<float>(1.0 - std::exp(-lambda * static_cast<double>(voxelSemanticWeight(v))));
 }
 
+void SemanticMesh::reserveColours() {
+  colour_mean_.resize(positions_.size(), Eigen::Vector3f::Zero());
+  colour_var_.resize(positions_.size(), Eigen::Vector3f::Zero());
+}
+
 void SemanticMesh::fuseColour(std::uint32_t v, const Eigen::Vector3f& c, float variance) {
-  if (v >= colour_var_.size()) {
-    colour_mean_.resize(positions_.size(), Eigen::Vector3f::Zero());
-    colour_var_.resize(positions_.size(), Eigen::Vector3f::Zero());
-  }
+  if (v >= colour_var_.size()) reserveColours();
   Eigen::Vector3f& mean = colour_mean_[v];
   Eigen::Vector3f& var = colour_var_[v];
   if (!(var.x() > 0.0f)) {

@@ -335,21 +335,27 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
     if (semantic) report.times.add("fuse", stats.fuse_ms);
     report.times.add("mesh", stats.mesh_ms);
     // Stage 2: texture refinement from this frame's image, unless the frame is held out.
+    // Stage 2: colours (unless the frame is held out of texturing) and classes (when segmented).
+    bool texture = false;
     if (params.texture) {
       const bool held_out =
           params.texture_holdout > 0 && (i + 1) % static_cast<std::size_t>(params.texture_holdout) == 0;
-      if (held_out) {
-        report.held_out_frames.push_back(frame->index);
-      } else if (view != nullptr && view->hasImage()) {
-        Stopwatch refine_clock;
-        const mapping::RefinementStats r = mapper.refine(*view, T_W_L);
-        report.times.add("refine", refine_clock.elapsedMs());
-        log::debug(
-            "frame {}: refinement: {} voxels in view, {} faces rendered, {} vertices in view, {} updated, "
-            "gain {:.3f}; cull {:.1f} ms, depth {:.1f} ms, fuse {:.1f} ms",
-            frame->index, r.voxels_in_view, r.faces_rendered, r.vertices_in_view, r.vertices_updated, r.gain, r.cull_ms,
-            r.depth_ms, r.fuse_ms);
-      }
+      if (held_out) report.held_out_frames.push_back(frame->index);
+      texture = !held_out;
+    }
+    const bool refine_semantics = observation.observed && params.mapper.refinement.semantic_refinement;
+    if (view != nullptr && view->hasImage() && (texture || refine_semantics)) {
+      Stopwatch refine_clock;
+      const mapping::RefinementInput input{view, texture, refine_semantics ? &observation : nullptr, &frame->points_L};
+      const mapping::RefinementStats r = mapper.refine(input, T_W_L);
+      report.times.add("refine", refine_clock.elapsedMs());
+      report.frames_textured += texture ? 1 : 0;
+      report.frames_semantic_refined += refine_semantics ? 1 : 0;
+      log::debug(
+          "frame {}: refinement: {} voxels in view, {} faces rendered, {} vertices in view, {} coloured, {} "
+          "labelled, gain {:.3f}; cull {:.1f} ms, depth {:.1f} ms, fuse {:.1f} ms",
+          frame->index, r.voxels_in_view, r.faces_rendered, r.vertices_in_view, r.vertices_updated, r.vertices_labelled,
+          r.gain, r.cull_ms, r.depth_ms, r.fuse_ms);
     }
     report.times.add("total", frame_clock.elapsedMs() - segment_ms);
     trajectory += formatRowMajor3x4(T_W_L) + "\n";

@@ -91,6 +91,18 @@ TEST(RunSemantics, SimulatedSegmenterWritesClassesConfidenceAndColours) {
   const auto scores = readJson(tmp / "scores.json");
   EXPECT_GT(scores["in_frustum"]["iou"]["car"].get<double>(), 0.7);
   EXPECT_GT(scores["in_frustum"]["iou"]["building"].get<double>(), 0.7);
+  EXPECT_NE(r.out.find("semantic refinement: 4 frames"), std::string::npos) << r.out;
+  EXPECT_TRUE(timing["stages"].contains("refine"));
+  EXPECT_EQ(readJson(out / "config.json")["semantics"]["semantic_refinement"], true);
+
+  // The ablation: stage 1's classes alone, written down in the run's settings.
+  const fs::path off = tmp / "no_refinement";
+  const auto n = runCli("run " + sim.string() + " --query \"cars and buildings\" --segmenter sim --texture off " +
+                        "--no-semantic-refinement --out " + off.string());
+  ASSERT_EQ(n.exit_code, 0) << n.err;
+  EXPECT_EQ(n.out.find("semantic refinement:"), std::string::npos) << n.out;
+  EXPECT_EQ(readJson(off / "config.json")["semantics"]["semantic_refinement"], false);
+  EXPECT_FALSE(readJson(off / "timing.json")["stages"].contains("refine"));
 }
 
 TEST(RunSemantics, MaskFilesWithGapsAndBadFilesAreCountedAndLogged) {

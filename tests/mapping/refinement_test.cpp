@@ -47,7 +47,7 @@ TEST(TextureRefinement, AVertexHiddenBehindANearerSurfaceGetsNoColour) {
   const auto mapper = scene();
   CameraView view = camera();
   view.image = picture();
-  const RefinementStats stats = mapper->refine(view, Isometry3d::Identity());
+  const RefinementStats stats = mapper->refine({&view}, Isometry3d::Identity());
   const SemanticMesh& mesh = mapper->mesh();
   EXPECT_GT(stats.faces_rendered, 1000u);
   std::size_t hidden = 0, wall_seen = 0, board_seen = 0;
@@ -81,7 +81,7 @@ TEST(TextureRefinement, AVertexHiddenBehindANearerSurfaceGetsNoColour) {
   MapperParams plain;
   plain.refinement.reliability = false;
   const auto plain_mapper = scene(plain);
-  plain_mapper->refine(view, Isometry3d::Identity());
+  plain_mapper->refine({&view}, Isometry3d::Identity());
   const SemanticMesh& plain_mesh = plain_mapper->mesh();
   std::size_t stained = 0;
   for (std::uint32_t v = 0; v < plain_mesh.vertexCount(); ++v) {
@@ -99,10 +99,10 @@ TEST(TextureRefinement, ExposureGainIsEstimatedAgainstTheMap) {
   CameraView view = camera();
   const SemanticMesh& mesh = mapper->mesh();
   view.image = picture(128);
-  mapper->refine(view, Isometry3d::Identity());
+  mapper->refine({&view}, Isometry3d::Identity());
   // The same scene, the camera's exposure 1.5x brighter in linear terms: sRGB 128 -> 155.
   view.image = picture(155);
-  const RefinementStats stats = mapper->refine(view, Isometry3d::Identity());
+  const RefinementStats stats = mapper->refine({&view}, Isometry3d::Identity());
   EXPECT_NEAR(stats.gain, 0.3277 / 0.2158, 0.01);  // linear 155 / linear 128
   for (std::uint32_t v = 0; v < mesh.vertexCount(); ++v) {
     const Eigen::Vector3f p = mesh.positions()[v];

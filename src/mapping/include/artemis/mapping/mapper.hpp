@@ -60,8 +60,9 @@ class Mapper {
   // With `semantic`, the observation is fused into the cells of the frame's points (1b) after they
   // are inserted (1a) and before meshing (1c).
   FrameStats integrate(const PointCloud& points_L, const Isometry3d& T_W_L, const SemanticInput* semantic = nullptr);
-  // Stage 2: refines the colours of the vertices `view` sees from the LiDAR pose `T_W_L`.
-  RefinementStats refine(const CameraView& view, const Isometry3d& T_W_L);
+  // Stage 2: refines the colours and classes of the vertices `input.view` sees from the LiDAR pose
+  // `T_W_L` (Refinement::refine).
+  RefinementStats refine(const RefinementInput& input, const Isometry3d& T_W_L);
   // Gives `cls` a semantic slot (a class newly prompted); see SemanticMesh::addSemanticClass.
   void addSemanticClass(semantics::ClassId cls) { mesh_.addSemanticClass(cls); }
   // Meshes every voxel with points added since it was last meshed. Returns how many.
@@ -79,7 +80,7 @@ class Mapper {
   SemanticMesh mesh_;
   IncrementalMesher mesher_;
   SemanticFusion fusion_;
-  TextureRefinement refinement_;
+  Refinement refinement_;
   std::vector<Eigen::Vector3f> points_W_;
   struct Arena;
   std::unique_ptr<Arena> arena_;

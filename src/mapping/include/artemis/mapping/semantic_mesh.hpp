@@ -14,6 +14,11 @@
 // camera, sharpened by the cell's evidence wherever it was. Its confidence is eq. 7 with its
 // voxel's W_sem. Slots, rather than the whole vocabulary, keep this at (1 + prompted classes)
 // floats per vertex and per voxel.
+//
+// Stage 2 (eq. 12-13) adds per vertex the unnormalised log-probabilities lambda of its slots,
+// summed over the views that saw it reliably. Once a vertex has some, its distribution is the
+// softmax of lambda + kappa log(stage 1's distribution, floored at kStageOneFloor): stage 1 is the
+// prior that the views' likelihoods sharpen, worth kappa views (setStageOneWeight).
 
 #include <array>
 #include <cstdint>
@@ -72,8 +77,20 @@ class SemanticMesh {
   void observe(std::uint32_t v, std::size_t slot, float w);
   // Weight of the voxel's distribution in a vertex's (see above); > 0.
   void setVoxelPrior(float weight) { voxel_prior_ = weight; }
+  // Stage 2: makes room for every vertex's lambda (call before addLogLikelihood, which may then run
+  // concurrently for distinct vertices).
+  void reserveRefinement();
+  // lambda_v,s += w * (s == hit_slot ? log_hit : log_miss) (eq. 12-13), and w to v's refined weight.
+  void addLogLikelihood(std::uint32_t v, std::size_t hit_slot, float log_hit, float log_miss, float w);
+  // Sum of the W that refined vertex v's classes (0: never).
+  [[nodiscard]] float refinedWeight(std::uint32_t v) const {
+    return v < refined_weight_.size() ? refined_weight_[v] : 0.0f;
+  }
+  static constexpr float kStageOneFloor = 1e-3f;
+  // kappa above; > 0.
+  void setStageOneWeight(float kappa) { stage_one_weight_ = kappa; }
   // Vertex v's distribution over the slots (slotCount() values, summing to 1), or false when
-  // neither its cell nor its voxel was ever observed.
+  // neither its cell nor its voxel was ever observed and no view refined it.
   bool distribution(std::uint32_t v, float* out) const;
   // The slot with the highest probability (kNoClass when never observed; ties go to the lower slot).
   [[nodiscard]] semantics::ClassId vertexClass(std::uint32_t v) const;
@@ -88,6 +105,9 @@ class SemanticMesh {
   [[nodiscard]] Eigen::Vector3f colourVariance(std::uint32_t v) const {
     return hasColour(v) ? colour_var_[v] : Eigen::Vector3f::Zero();
   }
+  // Makes room for every vertex's colour (call before fuseColour, which may then run concurrently
+  // for distinct vertices).
+  void reserveColours();
   // Fuses an observation `c` with per-channel variance `variance` (> 0) into vertex v's colour: the
   // first sets it, later ones update mean and variance as a Kalman filter does.
   void fuseColour(std::uint32_t v, const Eigen::Vector3f& c, float variance);
@@ -114,12 +134,18 @@ class SemanticMesh {
   std::vector<VoxelKey> voxels_;
   std::vector<Eigen::Vector3f> views_;
   std::vector<semantics::ClassId> slots_{semantics::kNoClass};
+  // Stage 1's distribution of vertex v, whose cell and voxel weights are given (not both 0).
+  void stageOne(std::uint32_t v, float w_cell, float w_voxel, float* out) const;
+
   std::vector<float> evidence_;             // vertex-major, slotCount() per vertex observed so far
   std::vector<float> semantic_weight_;      // W_sem per vertex; grows to the highest vertex observed
   std::vector<std::uint32_t> voxel_index_;  // per vertex
   std::vector<float> voxel_evidence_;       // voxel-major, slotCount() per voxel
   std::vector<float> voxel_weight_;         // W_sem per voxel
   float voxel_prior_ = 10.0f;
+  std::vector<float> log_likelihood_;  // lambda, vertex-major, slotCount() per vertex
+  std::vector<float> refined_weight_;  // per vertex
+  float stage_one_weight_ = 5.0f;
   std::vector<Eigen::Vector3f> colour_mean_;
   std::vector<Eigen::Vector3f> colour_var_;  // 0: never coloured
   std::unordered_map<VoxelKey, std::vector<Face>, VoxelKeyHash> faces_;
