@@ -85,8 +85,8 @@ struct Candidate {
 // least over a (2 r + 1)^2 window (separable), which bridges the gaps between beams and marks the
 // pixels just beside a nearer object's silhouette.
 void lidarDepth(const PointCloud& points_L, const CameraView& view, int r, std::vector<float>& out) {
-  const int w = view.image.width();
-  const int h = view.image.height();
+  const int w = view.camera.width_px;  // the size of the reference depth it joins
+  const int h = view.camera.height_px;
   constexpr float kFar = std::numeric_limits<float>::infinity();
   out.assign(static_cast<std::size_t>(w) * static_cast<std::size_t>(h), kFar);
   const Isometry3d T_C_L = view.T_L_C.inverse();
@@ -180,6 +180,11 @@ RefinementStats Refinement::refine(const VoxelMap& map, SemanticMesh& mesh, cons
   const PinholeCamera& camera = view.camera;
   const int w = view.image.width();
   const int h = view.image.height();
+  if (w != camera.width_px || h != camera.height_px) {  // the dataset readers refuse such images
+    throw std::invalid_argument("refinement: the image is " + std::to_string(w) + "x" + std::to_string(h) +
+                                " but the camera " + std::to_string(camera.width_px) + "x" +
+                                std::to_string(camera.height_px));
+  }
   const Isometry3d T_W_C = T_W_L * view.T_L_C;
 
   // 1. Culling: blocks, then voxels.
@@ -203,7 +208,7 @@ RefinementStats Refinement::refine(const VoxelMap& map, SemanticMesh& mesh, cons
   if (input.points_L != nullptr && params_.lidar_window_px >= 0) {
     lidarDepth(*input.points_L, view, params_.lidar_window_px, lidar_depth_);
     std::vector<float>& z = reference.depth.data();
-    for (std::size_t k = 0; k < lidar_depth_.size(); ++k) z[k] = std::min(z[k], lidar_depth_[k]);
+    for (std::size_t k = 0; k < std::min(z.size(), lidar_depth_.size()); ++k) z[k] = std::min(z[k], lidar_depth_[k]);
   }
   stats.depth_ms = clock.elapsedMs();
 

@@ -6,6 +6,7 @@
 #include <array>
 #include <cmath>
 #include <memory>
+#include <stdexcept>
 
 #include "artemis/mapping/mapper.hpp"
 #include "camera_scenes.hpp"
@@ -180,6 +181,13 @@ TEST(SemanticRefinement, TheAblationSwitchKeepsStageOne) {
     ASSERT_EQ(mapper->mesh().refinedWeight(v), 0.0f);
     ASSERT_EQ(mapper->mesh().vertexClass(v), semantics::kNoClass);
   }
+}
+
+TEST(SemanticRefinement, AnImageOfAnotherSizeThanTheCameraIsRefused) {
+  const auto mapper = boardScene();
+  CameraView view = test::forwardCamera();
+  view.image = ImageU8(100, 50, 3, 128);
+  EXPECT_THROW(mapper->refine({&view}, Isometry3d::Identity()), std::invalid_argument);
 }
 
 TEST(SemanticRefinement, ResultsDoNotDependOnTheThreadCount) {
