@@ -18,6 +18,7 @@
 #include "artemis/semantics/simulated_segmenter.hpp"
 #include "artemis/sim/simulator.hpp"
 #include "bench_stats.hpp"
+#include "sim_frames.hpp"
 
 int main(int argc, char** argv) {
   using namespace artemis;
@@ -59,11 +60,7 @@ int main(int argc, char** argv) {
     const sim::LidarScan scan = sim.scan(k);
     const sim::CameraImages images = sim.render(k);
     view.image = images.rgb;
-    PointCloud cloud;
-    for (const auto& p : scan.points_L) {
-      const float r = p.head<3>().norm();
-      if (r >= 2.0f && r <= 70.0f) cloud.points.push_back(p.head<3>());
-    }
+    const PointCloud cloud = bench::rangeGated(scan);
     const auto obs = (*segmenter)->corrupt(images.semantic, images.instance, static_cast<std::size_t>(k), prompts);
     const Isometry3d T = sim.T_W_L(k);
     Stopwatch clock;

@@ -204,7 +204,6 @@ int runRun(RunFlags flags) {
     }
     flags.dataset.path = *demo;
   }
-  flags.params.mapper.refinement.background_score = flags.params.mapper.semantics.background_score;
   // Images are read for texture and semantics.
   auto dataset = flags.dataset.open(/*load_images=*/!flags.segmenter.empty() || flags.texture != "off");
   if (!dataset) {

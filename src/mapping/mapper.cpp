@@ -49,7 +49,7 @@ Mapper::Mapper(const MapperParams& params)
       map_(params.voxels),
       mesher_(params.mesher),
       fusion_(params.semantics),
-      refinement_(params.refinement),
+      refinement_(params.refinement, params.semantics.background_score),
       arena_(std::make_unique<Arena>(params.threads)) {
   mesh_.setVoxelPrior(static_cast<float>(params.semantics.voxel_prior));
   mesh_.setStageOneWeight(static_cast<float>(params.refinement.stage_one_weight));

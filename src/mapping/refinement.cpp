@@ -13,6 +13,7 @@
 #include <utility>
 
 #include "artemis/core/colour.hpp"
+#include "artemis/core/projection.hpp"
 #include "artemis/core/timer.hpp"
 #include "artemis/render/rasterizer.hpp"
 
@@ -81,53 +82,6 @@ struct Candidate {
   bool valid = false;
 };
 
-// The frame's LiDAR depth seen from the camera: per pixel the nearest point's depth, then the
-// least over a (2 r + 1)^2 window (separable), which bridges the gaps between beams and marks the
-// pixels just beside a nearer object's silhouette.
-void lidarDepth(const PointCloud& points_L, const CameraView& view, int r, std::vector<float>& out) {
-  const int w = view.camera.width_px;  // the size of the reference depth it joins
-  const int h = view.camera.height_px;
-  constexpr float kFar = std::numeric_limits<float>::infinity();
-  out.assign(static_cast<std::size_t>(w) * static_cast<std::size_t>(h), kFar);
-  const Isometry3d T_C_L = view.T_L_C.inverse();
-  const Eigen::Matrix3f R = T_C_L.linear().cast<float>();
-  const Eigen::Vector3f t = T_C_L.translation().cast<float>();
-  const PinholeProjector project(view.camera);
-  for (const Eigen::Vector3f& p_L : points_L.points) {
-    const Eigen::Vector3f p_C = R * p_L + t;
-    if (!(p_C.z() > static_cast<float>(PinholeCamera::kMinDepthM))) continue;
-    const Eigen::Vector2f uv = project(p_C);
-    const int u = static_cast<int>(std::lround(uv.x()));
-    const int v = static_cast<int>(std::lround(uv.y()));
-    if (u < 0 || v < 0 || u >= w || v >= h) continue;
-    float& d = out[static_cast<std::size_t>(v) * static_cast<std::size_t>(w) + static_cast<std::size_t>(u)];
-    d = std::min(d, p_C.z());
-  }
-  if (r == 0) return;
-  std::vector<float> row(static_cast<std::size_t>(std::max(w, h)));
-  for (int v = 0; v < h; ++v) {  // horizontal
-    float* line = &out[static_cast<std::size_t>(v) * static_cast<std::size_t>(w)];
-    std::copy_n(line, w, row.data());
-    for (int u = 0; u < w; ++u) {
-      float m = kFar;
-      for (int k = std::max(0, u - r); k <= std::min(w - 1, u + r); ++k)
-        m = std::min(m, row[static_cast<std::size_t>(k)]);
-      line[u] = m;
-    }
-  }
-  for (int u = 0; u < w; ++u) {  // vertical
-    for (int v = 0; v < h; ++v)
-      row[static_cast<std::size_t>(v)] =
-          out[static_cast<std::size_t>(v) * static_cast<std::size_t>(w) + static_cast<std::size_t>(u)];
-    for (int v = 0; v < h; ++v) {
-      float m = kFar;
-      for (int k = std::max(0, v - r); k <= std::min(h - 1, v + r); ++k)
-        m = std::min(m, row[static_cast<std::size_t>(k)]);
-      out[static_cast<std::size_t>(v) * static_cast<std::size_t>(w) + static_cast<std::size_t>(u)] = m;
-    }
-  }
-}
-
 }  // namespace
 
 std::vector<std::uint32_t> voxelsInView(const VoxelMap& map, const PinholeCamera& camera, const Isometry3d& T_W_C,
@@ -153,15 +107,16 @@ std::vector<std::uint32_t> voxelsInView(const VoxelMap& map, const PinholeCamera
   return out;
 }
 
-Refinement::Refinement(const RefinementParams& params) : params_(params) {
+Refinement::Refinement(const RefinementParams& params, double background_score)
+    : params_(params), background_score_(background_score) {
   if (!(params.sigma_photo > 0.0) || !(params.sigma_geom > 0.0) || !(params.depth_epsilon_m > 0.0) ||
       !(params.sigma_obs > 0.0) || !(params.min_reliability >= 0.0 && params.min_reliability <= 1.0) ||
       !(params.max_range_m > 0.0) || !(params.mask_floor > 0.0 && params.mask_floor < 1.0) ||
-      !(params.background_score > 0.0 && params.background_score <= 1.0) || !(params.stage_one_weight > 0.0) ||
+      !(background_score >= 0.0 && background_score <= 1.0) || !(params.stage_one_weight > 0.0) ||
       params.mask_border_px < 0) {
     throw std::invalid_argument(
         "refinement: sigma_photo, sigma_geom, depth_epsilon_m, sigma_obs and max_range_m must be > 0, "
-        "min_reliability in [0, 1], mask_floor in (0, 1), background_score in (0, 1], stage_one_weight > 0 and "
+        "min_reliability in [0, 1], mask_floor in (0, 1), background_score in [0, 1], stage_one_weight > 0 and "
         "mask_border_px >= 0");
   }
 }
@@ -206,9 +161,13 @@ RefinementStats Refinement::refine(const VoxelMap& map, SemanticMesh& mesh, cons
   render_view.far_m = params_.max_range_m * 2.0;
   render::Picture reference = render::rasterize({mesh.positions(), faces, {}}, render_view);
   if (input.points_L != nullptr && params_.lidar_window_px >= 0) {
-    lidarDepth(*input.points_L, view, params_.lidar_window_px, lidar_depth_);
+    // The frame's LiDAR depth, its least within the window: bridges the gaps between beams and
+    // marks the pixels just beside a nearer object's silhouette.
+    projectDepth(*input.points_L, view, camera.width_px, camera.height_px, lidar_);
+    minFilter(lidar_.nearest, params_.lidar_window_px);
     std::vector<float>& z = reference.depth.data();
-    for (std::size_t k = 0; k < std::min(z.size(), lidar_depth_.size()); ++k) z[k] = std::min(z[k], lidar_depth_[k]);
+    const std::vector<float>& lidar = lidar_.nearest.data();
+    for (std::size_t k = 0; k < std::min(z.size(), lidar.size()); ++k) z[k] = std::min(z[k], lidar[k]);
   }
   stats.depth_ms = clock.elapsedMs();
 
@@ -320,7 +279,7 @@ RefinementStats Refinement::refine(const VoxelMap& map, SemanticMesh& mesh, cons
     };
     std::vector<MaskTerm> terms;
     terms.reserve(observation->masks.size() + 1);
-    const auto [bg_hit, bg_miss] = likelihood(params_.background_score);
+    const auto [bg_hit, bg_miss] = likelihood(background_score_);
     terms.push_back({0, bg_hit, bg_miss});
     for (const semantics::Mask& m : observation->masks) {
       const int slot = mesh.slotOf(m.class_id);

@@ -31,28 +31,11 @@ FusionStats SemanticFusion::fuse(const PointCloud& points_L, const VoxelMap& map
   if (!observation.observed || observation.mask_ids.empty()) return stats;
   const int w = observation.mask_ids.width();
   const int h = observation.mask_ids.height();
-  // Projection into the image, in single precision (pixel centres at integer coordinates): the
-  // point's pixel and depth; points behind the camera or outside the mask image are left out.
-  const Isometry3d T_C_L = view.T_L_C.inverse();
-  const Eigen::Matrix3f R_C_L = T_C_L.linear().cast<float>();
-  const Eigen::Vector3f t_C_L = T_C_L.translation().cast<float>();
-  const PinholeProjector project(view.camera);
-  constexpr float kFar = std::numeric_limits<float>::max();
-  depth_.assign(static_cast<std::size_t>(w) * static_cast<std::size_t>(h), kFar);
-  projected_.clear();
-  for (std::size_t i = 0; i < points_L.size(); ++i) {
-    const Eigen::Vector3f p_C = R_C_L * points_L.points[i] + t_C_L;
-    if (!(p_C.z() > static_cast<float>(PinholeCamera::kMinDepthM))) continue;
-    const Eigen::Vector2f uv = project(p_C);
-    const float u = uv.x();
-    const float v = uv.y();
-    if (!(u >= -0.5f && v >= -0.5f && u < static_cast<float>(w) - 0.5f && v < static_cast<float>(h) - 0.5f)) continue;
-    const auto pixel = static_cast<std::size_t>(std::floor(v + 0.5f)) * static_cast<std::size_t>(w) +
-                       static_cast<std::size_t>(std::floor(u + 0.5f));
-    projected_.push_back({static_cast<std::uint32_t>(i), static_cast<std::uint32_t>(pixel), p_C.z()});
-    depth_[pixel] = std::min(depth_[pixel], p_C.z());
-  }
-  stats.points_in_image = projected_.size();
+  // Each point's pixel and depth, and the nearest LiDAR depth per pixel.
+  projectDepth(points_L, view, w, h, projected_);
+  const std::vector<float>& depth = projected_.nearest.data();
+  constexpr float kFar = std::numeric_limits<float>::infinity();
+  stats.points_in_image = projected_.points.size();
 
   // Slot of each mask's class, and of the background.
   std::vector<int> mask_slot(observation.masks.size() + 1, 0);
@@ -70,14 +53,14 @@ FusionStats SemanticFusion::fuse(const PointCloud& points_L, const VoxelMap& map
   const auto inv_sigma_d = static_cast<float>(1.0 / params_.sigma_depth_m);
   const auto background = static_cast<float>(params_.background_score);
   // In scan order, one point after the other: points sharing a cell add up in a fixed order.
-  for (const Projected& q : projected_) {
+  for (const DepthProjection::Point& q : projected_.points) {
     const std::uint32_t vertex = map.insertedVertex(q.index);
     if (vertex == VoxelMap::kNoVertex) continue;  // a point the map refused
     const int u = static_cast<int>(q.pixel % static_cast<std::uint32_t>(w));
     const int v = static_cast<int>(q.pixel / static_cast<std::uint32_t>(w));
     float nearest = kFar;
     for (int y = std::max(0, v - r); y <= std::min(h - 1, v + r); ++y) {
-      const float* row = &depth_[static_cast<std::size_t>(y) * static_cast<std::size_t>(w)];
+      const float* row = &depth[static_cast<std::size_t>(y) * static_cast<std::size_t>(w)];
       for (int x = std::max(0, u - r); x <= std::min(w - 1, u + r); ++x) nearest = std::min(nearest, row[x]);
     }
     const float d_depth = q.depth - nearest;  // >= 0: the point itself is in the window

@@ -1,5 +1,7 @@
 #include <gtest/gtest.h>
 
+#include <cmath>
+
 #include "artemis/core/projection.hpp"
 
 namespace artemis {
@@ -36,6 +38,41 @@ TEST(Projection, PointsBehindTheCameraAreNeverMirroredIn) {
   // Behind the camera, but on its optical axis: a naive u = fx x / z would land on the centre.
   cloud.points = {{-10, 0, 0}, {-0.0001f, 0, 0}, {0, 0, 0}};
   EXPECT_EQ(projectIntoCamera(cloud, forwardCamera()).size(), 0u);
+}
+
+TEST(Projection, DepthProjectionKeepsTheNearestDepthPerPixel) {
+  PointCloud cloud;
+  // Two points on the principal point's pixel (10 m and 6 m), one at (59.5, 29.5), one behind.
+  cloud.points = {{10, 0, 0}, {6, 0, 0}, {10, -2, -1}, {-10, 0, 0}};
+  DepthProjection out;
+  projectDepth(cloud, forwardCamera(), 100, 50, out);
+  ASSERT_EQ(out.points.size(), 3u);
+  EXPECT_EQ(out.points[0].index, 0u);
+  EXPECT_EQ(out.points[0].pixel, 25u * 100u + 50u);  // (49.5, 24.5): halves round up, floor(x + 0.5)
+  EXPECT_FLOAT_EQ(out.nearest.at(50, 25), 6.0f);
+  EXPECT_FLOAT_EQ(out.nearest.at(60, 30), 10.0f);
+  EXPECT_TRUE(std::isinf(out.nearest.at(0, 0)));
+  // Storage is reused: a second, empty frame leaves nothing behind.
+  projectDepth(PointCloud{}, forwardCamera(), 100, 50, out);
+  EXPECT_TRUE(out.points.empty());
+  EXPECT_TRUE(std::isinf(out.nearest.at(50, 25)));
+}
+
+TEST(Projection, MinFilterTakesTheLeastOfEachWindow) {
+  ImageF32 image(7, 5, 1, 9.0f);
+  image.at(3, 2) = 1.0f;
+  image.at(0, 0) = 2.0f;
+  minFilter(image, 1);
+  for (int v = 0; v < 5; ++v) {
+    for (int u = 0; u < 7; ++u) {
+      float expected = 9.0f;
+      if (std::abs(u - 3) <= 1 && std::abs(v - 2) <= 1)
+        expected = 1.0f;
+      else if (u <= 1 && v <= 1)
+        expected = 2.0f;
+      EXPECT_FLOAT_EQ(image.at(u, v), expected) << u << " " << v;
+    }
+  }
 }
 
 }  // namespace

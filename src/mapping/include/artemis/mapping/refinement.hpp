@@ -30,7 +30,8 @@
 //
 // o_i is the mask at the vertex's pixel (nearest). Inside a mask of class c_m with score s:
 // P_mask(o | c_m) = s and (1 - s) / (slots - 1) for every other slot; outside every mask the
-// observation is "none of the prompted classes" with background_score. Every P_mask is floored at
+// observation is "none of the prompted classes" with stage 1's background score (one setting for
+// both stages: SemanticFusionParams::background_score). Every P_mask is floored at
 // mask_floor so that the log stays finite. The read-out (SemanticMesh::distribution) is the
 // softmax of lambda plus kappa times the log of stage 1's distribution.
 //
@@ -48,6 +49,7 @@
 
 #include "artemis/core/frame.hpp"
 #include "artemis/core/point_cloud.hpp"
+#include "artemis/core/projection.hpp"
 #include "artemis/core/transform.hpp"
 #include "artemis/mapping/semantic_mesh.hpp"
 #include "artemis/mapping/voxel_map.hpp"
@@ -72,7 +74,6 @@ struct RefinementParams {
   bool exposure_gain = true;        // false: gain 1
   bool semantic_refinement = true;  // false: the classes stay stage 1's (eq. 1, 7)
   double mask_floor = 0.01;         // eq. 13: P_mask is at least this
-  double background_score = 0.5;    // eq. 13: P_mask(none | outside every mask)
   // kappa: stage 1's distribution counts as this many views in the read-out (SemanticMesh).
   double stage_one_weight = 5.0;
   int lidar_window_px = 2;    // d_ref: the least of the z-buffer and the LiDAR depth within this; -1: z-buffer only
@@ -109,7 +110,8 @@ std::vector<std::uint32_t> voxelsInView(const VoxelMap& map, const PinholeCamera
 
 class Refinement {
  public:
-  explicit Refinement(const RefinementParams& params);
+  // `background_score`: P_mask(none | outside every mask), in [0, 1].
+  explicit Refinement(const RefinementParams& params, double background_score = 0.5);
 
   // Refines the colours and classes of the vertices `input.view` sees from the LiDAR pose `T_W_L`.
   RefinementStats refine(const VoxelMap& map, SemanticMesh& mesh, const RefinementInput& input,
@@ -119,7 +121,8 @@ class Refinement {
 
  private:
   RefinementParams params_;
-  std::vector<float> lidar_depth_;  // per-frame scratch
+  double background_score_;
+  DepthProjection lidar_;  // per-frame scratch
 };
 
 }  // namespace artemis::mapping

@@ -28,6 +28,7 @@
 
 #include "artemis/core/frame.hpp"
 #include "artemis/core/point_cloud.hpp"
+#include "artemis/core/projection.hpp"
 #include "artemis/core/transform.hpp"
 #include "artemis/mapping/semantic_mesh.hpp"
 #include "artemis/mapping/voxel_map.hpp"
@@ -69,14 +70,7 @@ class SemanticFusion {
 
  private:
   SemanticFusionParams params_;
-  // Per-frame scratch: the points in the image, and the nearest LiDAR depth per pixel.
-  struct Projected {
-    std::uint32_t index;  // into the frame's points
-    std::uint32_t pixel;  // v * width + u
-    float depth;
-  };
-  std::vector<Projected> projected_;
-  std::vector<float> depth_;
+  DepthProjection projected_;  // per-frame scratch
 };
 
 }  // namespace artemis::mapping
