@@ -71,7 +71,7 @@ int main(int argc, char** argv) {
   view.camera = sim.camera();
   view.T_L_C = sim.T_L_C();
   std::vector<double> plain_ms, semantic_ms, fuse_ms, segment_ms;
-  std::vector<double> plain_insert, semantic_insert, plain_mesh, semantic_mesh;
+  std::vector<double> plain_insert, semantic_insert, plain_mesh, semantic_mesh, constrain_ms, constrained;
   std::size_t points = 0;
   for (int k = 0; k < frames; ++k) {
     const sim::LidarScan scan = sim.scan(k);
@@ -95,6 +95,8 @@ int main(int argc, char** argv) {
     fuse_ms.push_back(stats.fuse_ms);
     semantic_insert.push_back(stats.insert_ms);
     semantic_mesh.push_back(stats.mesh_ms);
+    constrain_ms.push_back(stats.constrain_ms);
+    constrained.push_back(static_cast<double>(stats.constrained_vertices));
     if ((k + 1) % 50 == 0) fmt::print(stderr, "{} / {} frames\n", k + 1, frames);
   }
   const auto p = percentiles(plain_ms);
@@ -110,6 +112,9 @@ int main(int argc, char** argv) {
   fmt::print("insert (1a) {:.2f} -> {:.2f} ms, meshing (1c) {:.2f} -> {:.2f} ms (medians, without -> with)\n",
              percentiles(plain_insert).median, percentiles(semantic_insert).median, percentiles(plain_mesh).median,
              percentiles(semantic_mesh).median);
+  const auto c = percentiles(constrain_ms);
+  fmt::print("semantic constraint (1d, in both mappers) per frame: {:.2f} / {:.2f} ms, median {:.0f} active vertices\n",
+             c.median, c.p95, percentiles(constrained).median);
   fmt::print("simulated segmentation ({} noise), apart: {:.2f} / {:.2f} ms\n", noise_name, g.median, g.p95);
   return 0;
 }

@@ -25,6 +25,7 @@ struct MeshEvalFlags {
   std::string reference;
   std::string seen;
   std::string json;
+  std::vector<std::uint16_t> class_pair;  // empty, or two reference class ids
   eval::GeometryParams params;
   double seen_radius_m = eval::Reference{}.seen_radius_m;
   double seen_plane_tolerance_m = eval::Reference{}.seen_plane_tolerance_m;
@@ -74,7 +75,8 @@ class StageProgress {
   Stopwatch clock_;
 };
 
-Status writeJson(const MeshEvalFlags& flags, const std::vector<eval::GeometryScore>& scores, double seconds) {
+Status writeJson(const MeshEvalFlags& flags, const std::vector<eval::GeometryScore>& scores, double seconds,
+                 const std::optional<eval::ClassBoundaryFaces>& boundary) {
   nlohmann::ordered_json j;
   j["mesh"] = flags.mesh;
   j["reference"] = flags.reference;
@@ -88,6 +90,15 @@ Status writeJson(const MeshEvalFlags& flags, const std::vector<eval::GeometrySco
                            {"f1", s.f1},
                            {"mesh_points", s.mesh_points},
                            {"reference_points", s.reference_points}});
+  }
+  if (boundary) {
+    j["class_boundary"] = {{"a", boundary->a},
+                           {"b", boundary->b},
+                           {"faces", boundary->faces},
+                           {"faces_with_a", boundary->faces_with_a},
+                           {"joining", boundary->joining},
+                           {"share", boundary->share},
+                           {"unlabelled_vertices", boundary->unlabelled_vertices}};
   }
   j["seconds"] = seconds;
   std::ofstream out(flags.json);
@@ -160,8 +171,31 @@ int runMeshEval(const MeshEvalFlags& flags) {
     fmt::print("{:>7.3f}  {:>9.4f}  {:>7.4f}  {:>7.4f}  {:>11}  {:>16}\n", s.tau_m, s.precision, s.recall, s.f1,
                s.mesh_points, s.reference_points);
   }
+  std::optional<eval::ClassBoundaryFaces> boundary;
+  if (!flags.class_pair.empty()) {
+    auto classes = eval::readFaceClasses(flags.reference);
+    if (!classes) {
+      log::error("{}", classes.status().message());
+      return 1;
+    }
+    if (classes->empty()) {
+      log::error("{}: --class-pair needs a reference mesh whose faces carry class_id (the simulator's gt/mesh.ply)",
+                 flags.reference);
+      return 1;
+    }
+    auto counted = eval::classBoundaryFaces(*mesh, reference.geometry, *classes, flags.class_pair[0], flags.class_pair[1]);
+    if (!counted) {
+      log::error("{}: {}", flags.reference, counted.status().message());
+      return 1;
+    }
+    boundary = *counted;
+    fmt::print("faces joining class {} to class {}: {} of the {} faces with a class-{} corner ({:.2f} %); {} vertices "
+               "without reference surface within 0.2 m\n",
+               boundary->a, boundary->b, boundary->joining, boundary->faces_with_a, boundary->a, 100.0 * boundary->share,
+               boundary->unlabelled_vertices);
+  }
   if (!flags.json.empty()) {
-    if (Status s = writeJson(flags, *scores, seconds); !s.isOk()) {
+    if (Status s = writeJson(flags, *scores, seconds, boundary); !s.isOk()) {
       log::error("{}", s.message());
       return 1;
     }
@@ -263,6 +297,10 @@ void addEvalCommands(CLI::App& app, int& exit_code) {
       ->capture_default_str();
   mesh->add_option("--seed", flags->params.seed, "Seed of the surface sampling")->capture_default_str();
   mesh->add_option("--json", flags->json, "Also write the scores to this JSON file");
+  mesh->add_option("--class-pair", flags->class_pair,
+                   "Two class ids of a labelled reference mesh (e.g. 10 40: car, road): also count the faces that "
+                   "join a vertex of the first class to one of the second")
+      ->expected(2);
   mesh->callback([flags, &exit_code] { exit_code = runMeshEval(*flags); });
 
   auto tflags = std::make_shared<TrajectoryEvalFlags>();

@@ -160,6 +160,18 @@ nlohmann::ordered_json configJson(const RunFlags& f, const std::string& dataset_
             {"max_plane_angle_deg", m.mesher.max_plane_angle_deg},
             {"nonplanar_ratio", m.mesher.nonplanar_ratio},
             {"linear_ratio", m.mesher.linear_ratio}}},
+          {"semantic_constraint",
+           {{"on", m.constraint.enabled},
+            {"lambda_sem", m.constraint.lambda_sem},
+            {"lambda_smooth", m.constraint.lambda_smooth},
+            {"temperature", m.constraint.temperature},
+            {"max_sweeps", m.constraint.max_sweeps},
+            {"steps", m.constraint.steps},
+            {"tolerance", m.constraint.tolerance},
+            {"max_step_m", m.constraint.max_step_m},
+            {"max_offset_m", m.constraint.max_offset_m},
+            {"cut_similarity", m.constraint.cut_similarity},
+            {"cut_depth_gap_m", m.constraint.cut_depth_gap_m}}},
           {"remesh_growth", m.remesh_growth},
           {"remesh_min_new", m.remesh_min_new},
           {"first_mesh_points", m.first_mesh_points},
@@ -267,6 +279,11 @@ int runRun(RunFlags flags) {
       "{:.1f} / {:.1f}; final meshing {:.0f} ms; peak memory {:.0f} MB; {:.1f} s in all\n",
       insert.median_ms, insert.p95_ms, mesh.median_ms, mesh.p95_ms, total.median_ms, total.p95_ms, report->finish_ms,
       report->peak_rss_mb, clock.elapsedS());
+  if (!report->times.samples("constrain").empty()) {
+    const auto constrain = report->times.summary("constrain");
+    fmt::print("semantic constraint per frame (median / p95 ms) {:.1f} / {:.1f}; {} faces cut\n", constrain.median_ms,
+               constrain.p95_ms, report->faces_cut);
+  }
   if (!report->times.samples("refine").empty()) {
     const auto refine_t = report->times.summary("refine");
     if (flags.params.texture) {
@@ -315,6 +332,35 @@ void addRunCommand(CLI::App& app, int& exit_code) {
   cmd->add_option("--rim", m.mesher.rim_m, "Neighbour points this close to a voxel join its triangulation (m)")
       ->capture_default_str();
   cmd->add_option("--threads", m.threads, "Worker threads (0: all cores)")->capture_default_str();
+  auto& c = m.constraint;
+  cmd->add_flag_callback(
+      "--no-semantic-constraint", [&c] { c.enabled = false; },
+      "Keep the vertices where the LiDAR put them and the faces the mesher made: no stage 1d (eq. 2-8)");
+  cmd->add_option("--lambda-smooth", c.lambda_smooth, "Semantic constraint: weight of E_smoothness (eq. 2)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--lambda-sem", c.lambda_sem, "Semantic constraint: weight of E_semantic (eq. 2)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--semantic-temperature", c.temperature, "Semantic constraint: tau of eq. 5")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--constraint-sweeps", c.max_sweeps, "Semantic constraint: most Gauss-Seidel sweeps a frame")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 100));
+  cmd->add_option("--max-vertex-offset", c.max_offset_m,
+                  "Semantic constraint: farthest a vertex may move from its LiDAR return (m)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--cut-similarity", c.cut_similarity,
+                  "Semantic constraint: cut faces whose edge has semantic similarity (eq. 5) below this and spans a "
+                  "depth gap (0: never cut)")
+      ->capture_default_str()
+      ->check(CLI::Range(0.0, 1.0));
+  cmd->add_option("--cut-depth-gap", c.cut_depth_gap_m,
+                  "Semantic constraint: the depth gap along the viewing ray an edge must span to be cut (m)")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
   cmd->add_option("--pose-refinement", flags->pose_refinement,
                   "Scan-to-map registration of every frame before mapping: on, off, or auto (on for GPS/IMU "
                   "poses such as KITTI raw's, and without poses)")

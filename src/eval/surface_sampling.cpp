@@ -57,7 +57,8 @@ std::string checkTriangleIndices(const MeshArrays& mesh) {
 std::vector<Eigen::Vector3f> sampleSurface(const MeshArrays& mesh, double samples_per_m2, std::size_t min_samples,
                                            std::uint64_t seed,
                                            const std::function<void(std::size_t, std::size_t)>& report,
-                                           std::vector<Eigen::Vector3f>* normals) {
+                                           std::vector<Eigen::Vector3f>* normals,
+                                           std::vector<std::uint32_t>* triangles) {
   if (!(samples_per_m2 > 0.0) || !std::isfinite(samples_per_m2)) {
     throw std::invalid_argument("sampleSurface: samples_per_m2 must be > 0, got " + std::to_string(samples_per_m2));
   }
@@ -98,6 +99,7 @@ std::vector<Eigen::Vector3f> sampleSurface(const MeshArrays& mesh, double sample
 
   std::vector<Eigen::Vector3f> samples(first.back());
   if (normals != nullptr) normals->assign(samples.size(), Eigen::Vector3f::Zero());
+  if (triangles != nullptr) triangles->assign(samples.size(), 0);
   const std::uint64_t seed_mix = mix64(seed);
   detail::chunkedFor(
       samples.size(),
@@ -118,6 +120,7 @@ std::vector<Eigen::Vector3f> sampleSurface(const MeshArrays& mesh, double sample
           const Eigen::Vector3d p =
               (1.0 - s) * corner(tri, 0) + s * (1.0 - r2) * corner(tri, 1) + s * r2 * corner(tri, 2);
           samples[j] = p.cast<float>();
+          if (triangles != nullptr) (*triangles)[j] = static_cast<std::uint32_t>(t);
           if (normals != nullptr) {
             const Eigen::Vector3d n = (corner(tri, 1) - corner(tri, 0)).cross(corner(tri, 2) - corner(tri, 0));
             (*normals)[j] = n.normalized().cast<float>();  // the face has area: it owns a sample

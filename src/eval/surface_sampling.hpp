@@ -10,7 +10,8 @@ namespace artemis::eval::detail {
 std::vector<Eigen::Vector3f> sampleSurface(const MeshArrays& mesh, double samples_per_m2, std::size_t min_samples,
                                            std::uint64_t seed,
                                            const std::function<void(std::size_t, std::size_t)>& report,
-                                           std::vector<Eigen::Vector3f>* normals = nullptr);
+                                           std::vector<Eigen::Vector3f>* normals = nullptr,
+                                           std::vector<std::uint32_t>* triangles = nullptr);
 
 // Empty when every index is below vertices.size(); else a message naming the first bad triangle.
 std::string checkTriangleIndices(const MeshArrays& mesh);

@@ -50,6 +50,7 @@ Mapper::Mapper(const MapperParams& params)
       mesher_(params.mesher),
       fusion_(params.semantics),
       refinement_(params.refinement, params.semantics.background_score),
+      constraint_(params.constraint, params.semantics.confidence_lambda),
       arena_(std::make_unique<Arena>(params.threads)) {
   mesh_.setVoxelPrior(static_cast<float>(params.semantics.voxel_prior));
   mesh_.setStageOneWeight(static_cast<float>(params.refinement.stage_one_weight));
@@ -95,8 +96,8 @@ FrameStats Mapper::integrate(const PointCloud& points_L, const Isometry3d& T_W_L
     }
   }
   sortSpatially(due);
-  stats.meshed_voxels = meshVoxels(due);
-  stats.mesh_ms = clock.elapsedMs();
+  stats.meshed_voxels = meshVoxels(due, &stats);
+  stats.mesh_ms = clock.elapsedMs() - stats.constrain_ms;
   return stats;
 }
 
@@ -128,11 +129,20 @@ std::size_t Mapper::finish() {
   return meshVoxels(pending);
 }
 
-std::size_t Mapper::meshVoxels(const std::vector<VoxelKey>& keys) {
+std::size_t Mapper::meshVoxels(const std::vector<VoxelKey>& keys, FrameStats* stats) {
   std::vector<VoxelMeshResult> results(keys.size());
+  std::vector<std::size_t> cut(keys.size(), 0);
+  const bool constrain = params_.constraint.enabled && mesh_.slotCount() > 1;
   arena_->arena.execute([&] {
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, keys.size(), 16), [&](const auto& range) {
-      for (std::size_t i = range.begin(); i < range.end(); ++i) results[i] = mesher_.meshVoxel(map_, mesh_, keys[i]);
+      for (std::size_t i = range.begin(); i < range.end(); ++i) {
+        results[i] = mesher_.meshVoxel(map_, mesh_, keys[i]);
+        if (!constrain) continue;
+        auto& faces = results[i].faces;
+        const std::size_t before = faces.size();
+        std::erase_if(faces, [&](const Face& f) { return constraint_.cuts(mesh_, f); });
+        cut[i] = before - faces.size();
+      }
     });
   });
   // Apply in key order of the input: deterministic whatever the thread count.
@@ -146,6 +156,14 @@ std::size_t Mapper::meshVoxels(const std::vector<VoxelKey>& keys) {
     const std::vector<Face>* old = mesh_.voxelFaces(r.key);
     if (old == nullptr && r.faces.empty()) continue;
     mesh_.setVoxelFaces(r.key, std::move(r.faces));
+  }
+  Stopwatch clock;
+  ConstraintStats constrained;
+  if (params_.constraint.enabled) arena_->arena.execute([&] { constrained = constraint_.apply(map_, mesh_, keys); });
+  if (stats != nullptr) {
+    stats->constrain_ms = clock.elapsedMs();
+    for (const std::size_t c : cut) stats->faces_cut += c;
+    stats->constrained_vertices = constrained.active_vertices;
   }
   return keys.size();
 }

@@ -10,6 +10,7 @@ namespace artemis::mapping {
 std::uint32_t SemanticMesh::addVertex(const Eigen::Vector3f& p_W, const VoxelKey& voxel,
                                       const Eigen::Vector3f& to_sensor, std::uint32_t voxel_index) {
   positions_.push_back(p_W);
+  measured_.push_back(p_W);
   voxel_index_.push_back(voxel_index);
   normals_.push_back(to_sensor);  // until the voxel's plane gives a better one
   voxels_.push_back(voxel);

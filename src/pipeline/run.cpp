@@ -118,7 +118,7 @@ std::string timingJson(const RunReport& report) {
   nlohmann::ordered_json stages = nlohmann::ordered_json::object();
   for (const std::string& stage :
        {std::string("read"), std::string("register"), std::string("segment"), std::string("insert"),
-        std::string("fuse"), std::string("mesh"), std::string("refine")}) {
+        std::string("fuse"), std::string("mesh"), std::string("constrain"), std::string("refine")}) {
     if (report.times.samples(stage).empty()) continue;
     const StageSummary s = report.times.summary(stage);
     stages[stage] = {{"median_ms", s.median_ms}, {"p95_ms", s.p95_ms}, {"max_ms", s.max_ms}};
@@ -334,6 +334,8 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
     report.times.add("insert", stats.insert_ms);
     if (semantic) report.times.add("fuse", stats.fuse_ms);
     report.times.add("mesh", stats.mesh_ms);
+    if (params.mapper.constraint.enabled) report.times.add("constrain", stats.constrain_ms);
+    report.faces_cut += stats.faces_cut;
     // Stage 2: texture refinement from this frame's image, unless the frame is held out.
     // Stage 2: colours (unless the frame is held out of texturing) and classes (when segmented).
     bool texture = false;
@@ -363,9 +365,11 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
     last_i = i;
     last_stamp_s = frame->stamp_s;
     ++report.frames;
-    log::debug("frame {}: {} points, {} kept, {} active voxels, {} meshed, insert {:.1f} ms, mesh {:.1f} ms",
-               frame->index, stats.points, stats.points_kept, stats.active_voxels, stats.meshed_voxels, stats.insert_ms,
-               stats.mesh_ms);
+    log::debug(
+        "frame {}: {} points, {} kept, {} active voxels, {} meshed, insert {:.1f} ms, mesh {:.1f} ms, constrain {:.1f} "
+        "ms ({} vertices, {} faces cut)",
+        frame->index, stats.points, stats.points_kept, stats.active_voxels, stats.meshed_voxels, stats.insert_ms,
+        stats.mesh_ms, stats.constrain_ms, stats.constrained_vertices, stats.faces_cut);
     if (progress) progress(i + 1, total);
   }
   if (report.frames == 0) return invalidArgument("no frame could be read; nothing written");

@@ -258,5 +258,27 @@ TEST(Geometry, BadInputIsAnErrorNotACrash) {
   EXPECT_GT(scores[0].f1, 0.99);
 }
 
+TEST(ClassBoundaryFaces, CountsTheFacesJoiningTwoClassesOfTheReference) {
+  // Reference: a car panel (class 10) on x in [0, 1] and road (class 40) on x in [1, 2], z = 0.
+  MeshArrays reference;
+  reference.vertices = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {2, 0, 0}, {2, 1, 0}};
+  reference.triangles = {{0, 1, 2}, {0, 2, 3}, {1, 4, 5}, {1, 5, 2}};
+  const std::vector<std::uint16_t> classes = {10, 10, 40, 40};
+  // Mesh: one face inside the car, one across the border, one inside the road, one far away.
+  MeshArrays mesh;
+  mesh.vertices = {{0.2f, 0.2f, 0.01f}, {0.6f, 0.2f, 0.0f}, {0.4f, 0.6f, 0.0f}, {1.4f, 0.2f, 0.0f},
+                   {1.8f, 0.6f, 0.0f}, {1.6f, 0.2f, 0.0f}, {5, 5, 5}, {6, 5, 5}, {5, 6, 5}};
+  mesh.triangles = {{0, 1, 2}, {1, 3, 2}, {3, 5, 4}, {6, 7, 8}};
+  const auto counted = classBoundaryFaces(mesh, reference, classes, 10, 40);
+  ASSERT_TRUE(static_cast<bool>(counted)) << counted.status().message();
+  EXPECT_EQ(counted->faces, 4u);
+  EXPECT_EQ(counted->faces_with_a, 2u);
+  EXPECT_EQ(counted->joining, 1u);
+  EXPECT_DOUBLE_EQ(counted->share, 0.5);
+  EXPECT_EQ(counted->unlabelled_vertices, 3u);  // the far face's corners
+  // Classes that do not match the reference's faces are an error, not a guess.
+  EXPECT_FALSE(static_cast<bool>(classBoundaryFaces(mesh, reference, {10, 40}, 10, 40)));
+}
+
 }  // namespace
 }  // namespace artemis::eval

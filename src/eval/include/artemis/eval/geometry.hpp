@@ -86,6 +86,26 @@ using Progress = std::function<void(const std::string& stage, std::size_t done, 
 Result<std::vector<GeometryScore>> evaluateGeometry(const MeshArrays& mesh, const Reference& reference,
                                                     const GeometryParams& params, const Progress& progress = {});
 
+// Faces of a mesh that join two classes of a labelled reference mesh (the simulator's gt/mesh.ply,
+// whose faces carry class ids): each vertex takes the class of the nearest reference surface
+// sample (400 per m^2) within `max_distance_m`, and a face joins a and b when its corners hold
+// both. How often a mesh glues a car to the road under it. Errors: face classes that do not match
+// the reference's faces, a reference without area, a vertex index out of range.
+struct ClassBoundaryFaces {
+  std::uint16_t a = 0;
+  std::uint16_t b = 0;
+  std::size_t faces = 0;          // of the mesh
+  std::size_t joining = 0;        // with a corner of class a and one of class b
+  std::size_t faces_with_a = 0;   // with a corner of class a
+  std::size_t unlabelled_vertices = 0;  // no reference surface within max_distance_m
+  double share = 0.0;             // joining / faces_with_a (0 without such faces)
+};
+Result<ClassBoundaryFaces> classBoundaryFaces(const MeshArrays& mesh, const MeshArrays& reference,
+                                              const std::vector<std::uint16_t>& reference_face_classes,
+                                              std::uint16_t a, std::uint16_t b, double max_distance_m = 0.2);
+// The face property `class_id` of a PLY mesh (empty when the file has none).
+Result<std::vector<std::uint16_t>> readFaceClasses(const std::filesystem::path& path);
+
 // Reads a PLY as vertices (x, y, z) and, when it has them, vertex colours (red, green, blue, as
 // 8-bit values) and triangles (polygons are fanned).
 // Errors name the file and the problem.

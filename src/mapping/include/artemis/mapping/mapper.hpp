@@ -11,6 +11,7 @@
 #include "artemis/core/transform.hpp"
 #include "artemis/mapping/incremental_mesher.hpp"
 #include "artemis/mapping/refinement.hpp"
+#include "artemis/mapping/semantic_constraint.hpp"
 #include "artemis/mapping/semantic_fusion.hpp"
 #include "artemis/mapping/semantic_mesh.hpp"
 #include "artemis/mapping/voxel_map.hpp"
@@ -22,6 +23,7 @@ struct MapperParams {
   MesherParams mesher;
   SemanticFusionParams semantics;
   RefinementParams refinement;
+  SemanticConstraintParams constraint;
   // A voxel is first meshed once it holds first_mesh_points, then re-meshed once its points grew
   // by remesh_growth (and by at least remesh_min_new) since it was last meshed; finish() meshes
   // whatever is still pending, so the final mesh does not depend on these. On KITTI drive 0013
@@ -37,11 +39,14 @@ struct FrameStats {
   double insert_ms = 0.0;
   double mesh_ms = 0.0;
   double fuse_ms = 0.0;           // semantic fusion (1b), when the frame came with an observation
+  double constrain_ms = 0.0;      // semantic constraint (1d): cutting faces and moving vertices
   std::size_t points = 0;         // points given
   std::size_t points_kept = 0;    // new mesh vertices
   std::size_t active_voxels = 0;  // voxels that gained points
   std::size_t meshed_voxels = 0;  // voxels re-meshed this frame
   std::size_t semantic_observations = 0;
+  std::size_t faces_cut = 0;           // faces the semantic constraint cut (1d)
+  std::size_t constrained_vertices = 0;  // vertices the semantic constraint could move
 };
 
 // A frame's segmented camera view, for semantic fusion.
@@ -65,7 +70,8 @@ class Mapper {
   RefinementStats refine(const RefinementInput& input, const Isometry3d& T_W_L);
   // Gives `cls` a semantic slot (a class newly prompted); see SemanticMesh::addSemanticClass.
   void addSemanticClass(semantics::ClassId cls) { mesh_.addSemanticClass(cls); }
-  // Meshes every voxel with points added since it was last meshed. Returns how many.
+  // Meshes every voxel with points added since it was last meshed (and applies the semantic
+  // constraint to them). Returns how many.
   std::size_t finish();
 
   [[nodiscard]] const SemanticMesh& mesh() const { return mesh_; }
@@ -73,7 +79,9 @@ class Mapper {
   [[nodiscard]] const MapperParams& params() const { return params_; }
 
  private:
-  std::size_t meshVoxels(const std::vector<VoxelKey>& keys);
+  // Meshes `keys` (1c), cutting the faces the semantic constraint refuses, then moves their
+  // vertices (1d); adds the constraint's figures to `stats` when given.
+  std::size_t meshVoxels(const std::vector<VoxelKey>& keys, FrameStats* stats = nullptr);
 
   MapperParams params_;
   VoxelMap map_;
@@ -81,6 +89,7 @@ class Mapper {
   IncrementalMesher mesher_;
   SemanticFusion fusion_;
   Refinement refinement_;
+  SemanticConstraint constraint_;
   std::vector<Eigen::Vector3f> points_W_;
   struct Arena;
   std::unique_ptr<Arena> arena_;

@@ -43,6 +43,10 @@ class SemanticMesh {
   [[nodiscard]] const std::vector<VoxelKey>& voxels() const { return voxels_; }
   // Unit direction from the vertex towards the sensor that first saw it.
   [[nodiscard]] const std::vector<Eigen::Vector3f>& viewDirections() const { return views_; }
+  // Where the LiDAR measured the vertex; positions() may differ once the semantic constraint
+  // (stage 1d) has moved it.
+  [[nodiscard]] const std::vector<Eigen::Vector3f>& measuredPositions() const { return measured_; }
+  void setPosition(std::uint32_t vertex, const Eigen::Vector3f& p_W) { positions_[vertex] = p_W; }
 
   // `voxel_index` numbers the voxel densely (VoxelMap's index): it keys the voxel's semantics.
   std::uint32_t addVertex(const Eigen::Vector3f& p_W, const VoxelKey& voxel, const Eigen::Vector3f& to_sensor,
@@ -130,6 +134,7 @@ class SemanticMesh {
 
  private:
   std::vector<Eigen::Vector3f> positions_;
+  std::vector<Eigen::Vector3f> measured_;
   std::vector<Eigen::Vector3f> normals_;
   std::vector<VoxelKey> voxels_;
   std::vector<Eigen::Vector3f> views_;

@@ -67,9 +67,11 @@ struct RunReport {
   std::size_t vertices = 0;
   std::size_t faces = 0;
   // Stages "read" (waiting for the frame: the next frame is read while one is mapped), ["register",]
-  // ["segment",] "insert", ["fuse",] "mesh", ["refine",] "total" (all but "segment") per frame.
+  // ["segment",] "insert", ["fuse",] "mesh", ["constrain",] ["refine",] "total" (all but "segment")
+  // per frame.
   StageTimes times;
   double finish_ms = 0.0;
+  std::size_t faces_cut = 0;  // by the semantic constraint, over the frames (not the final meshing)
   double peak_rss_mb = 0.0;
   std::vector<registration::FrameRegistration> registrations;  // one per mapped frame, with refinement
   std::vector<std::size_t> registered_frames;                  // their recording indices

@@ -1,0 +1,563 @@
+#include "artemis/mapping/semantic_constraint.hpp"
+
+#include <Eigen/Geometry>
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include "artemis/core/timer.hpp"
+#include "artemis/mapping/voxel_map.hpp"
+
+namespace artemis::mapping {
+
+using Eigen::Vector3d;
+
+double jensenShannon(const float* p, const float* q, std::size_t n) {
+  // JS = 1/2 KL(P || M) + 1/2 KL(Q || M), M = (P + Q) / 2; 0 log 0 = 0.
+  double js = 0.0;
+  for (std::size_t s = 0; s < n; ++s) {
+    const double a = p[s];
+    const double b = q[s];
+    const double m = 0.5 * (a + b);
+    if (a > 0.0) js += 0.5 * a * std::log(a / m);
+    if (b > 0.0) js += 0.5 * b * std::log(b / m);
+  }
+  return std::clamp(js, 0.0, std::log(2.0));
+}
+
+ConstraintSolver::ConstraintSolver(const SemanticConstraintParams& params, ConstraintPatch& patch)
+    : params_(params), patch_(patch) {
+  const std::size_t n = patch.positions.size();
+  if (patch.measured.size() != n || patch.plane_normals.size() != n || patch.confidence.size() != n ||
+      patch.active.size() != n || patch.slots == 0 || patch.distributions.size() != n * patch.slots) {
+    throw std::invalid_argument("ConstraintSolver: the patch's per-vertex arrays must all have " + std::to_string(n) +
+                                " entries (distributions: " + std::to_string(patch.slots) + " per vertex)");
+  }
+  face_offsets_.assign(n + 1, 0);
+  for (const Face& f : patch.faces) {
+    for (const std::uint32_t v : f) {
+      if (v >= n) {
+        throw std::invalid_argument("ConstraintSolver: a face names vertex " + std::to_string(v) + " of " +
+                                    std::to_string(n));
+      }
+      ++face_offsets_[v + 1];
+    }
+  }
+  for (std::size_t v = 0; v < n; ++v) face_offsets_[v + 1] += face_offsets_[v];
+  vertex_faces_.resize(face_offsets_[n]);
+  {
+    std::vector<std::uint32_t> fill(face_offsets_.begin(), face_offsets_.end() - 1);
+    for (std::size_t f = 0; f < patch.faces.size(); ++f) {
+      for (const std::uint32_t v : patch.faces[f]) vertex_faces_[fill[v]++] = static_cast<std::uint32_t>(f);
+    }
+  }
+
+  // Neighbours: the other corners of a vertex's faces, sorted and unique, each with its edge's
+  // constants (the distributions do not change during a solve). Counted, then filled, in parallel.
+  const auto gather = [&](std::uint32_t v, std::vector<std::uint32_t>& around) {
+    around.clear();
+    for (std::uint32_t k = face_offsets_[v]; k < face_offsets_[v + 1]; ++k) {
+      for (const std::uint32_t u : patch.faces[vertex_faces_[k]]) {
+        if (u != v) around.push_back(u);
+      }
+    }
+    std::sort(around.begin(), around.end());
+    around.erase(std::unique(around.begin(), around.end()), around.end());
+  };
+  neighbour_offsets_.assign(n + 1, 0);
+  tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, static_cast<std::uint32_t>(n), 256), [&](const auto& range) {
+    thread_local std::vector<std::uint32_t> around;
+    for (std::uint32_t v = range.begin(); v < range.end(); ++v) {
+      gather(v, around);
+      neighbour_offsets_[v + 1] = static_cast<std::uint32_t>(around.size());
+    }
+  });
+  for (std::size_t v = 0; v < n; ++v) neighbour_offsets_[v + 1] += neighbour_offsets_[v];
+  neighbours_.resize(neighbour_offsets_[n]);
+  const std::size_t slots = patch.slots;
+  tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, static_cast<std::uint32_t>(n), 256), [&](const auto& range) {
+    thread_local std::vector<std::uint32_t> around;
+    for (std::uint32_t v = range.begin(); v < range.end(); ++v) {
+      gather(v, around);
+      const float* p = &patch.distributions[v * slots];
+      for (std::size_t i = 0; i < around.size(); ++i) {
+        const std::uint32_t u = around[i];
+        const float* q = &patch.distributions[u * slots];
+        // Equal distributions (both never observed, or one voxel's prior) are common: JS 0, sim 1.
+        const double js = std::equal(p, p + slots, q) ? 0.0 : jensenShannon(p, q, slots);
+        neighbours_[neighbour_offsets_[v] + i] = {
+            u, static_cast<float>(std::exp(-params.temperature * std::sqrt(js))),
+            static_cast<float>(static_cast<double>(patch.confidence[v]) * patch.confidence[u] * js)};
+      }
+    }
+  });
+
+  x_.resize(n);
+  for (std::size_t v = 0; v < n; ++v) x_[v] = patch.positions[v].cast<double>();
+  area_normals_.resize(n);
+  normals_.resize(n);
+  tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, static_cast<std::uint32_t>(n), 1024), [&](const auto& range) {
+    for (std::uint32_t v = range.begin(); v < range.end(); ++v) refreshNormal(v);
+  });
+
+  if (patch.block.empty()) {
+    phases_.resize(1);
+    phases_[0].resize(1);
+    for (std::uint32_t v = 0; v < n; ++v) {
+      if (patch.active[v] != 0) phases_[0][0].push_back(v);
+    }
+  } else {
+    if (patch.block.size() != n || patch.colour.size() != n) {
+      throw std::invalid_argument("ConstraintSolver: block and colour need one entry per vertex");
+    }
+    struct Slot {
+      std::uint8_t colour;
+      std::uint64_t block;
+      std::uint32_t vertex;
+    };
+    std::vector<Slot> order;
+    for (std::uint32_t v = 0; v < n; ++v) {
+      if (patch.active[v] != 0) order.push_back({patch.colour[v], patch.block[v], v});
+    }
+    std::sort(order.begin(), order.end(), [](const Slot& a, const Slot& b) {
+      return a.colour != b.colour ? a.colour < b.colour : a.block != b.block ? a.block < b.block : a.vertex < b.vertex;
+    });
+    for (std::size_t i = 0; i < order.size(); ++i) {
+      const bool new_colour = i == 0 || order[i].colour != order[i - 1].colour;
+      if (new_colour) phases_.emplace_back();
+      if (new_colour || order[i].block != order[i - 1].block) phases_.back().emplace_back();
+      phases_.back().back().push_back(order[i].vertex);
+    }
+  }
+}
+
+
+Vector3d ConstraintSolver::areaNormal(std::uint32_t v, std::uint32_t moved, const Vector3d& x) const {
+  Vector3d m = Vector3d::Zero();
+  for (std::uint32_t k = face_offsets_[v]; k < face_offsets_[v + 1]; ++k) {
+    const Face& f = patch_.faces[vertex_faces_[k]];
+    const Vector3d a = position(f[0], moved, x);
+    m += (position(f[1], moved, x) - a).cross(position(f[2], moved, x) - a);
+  }
+  return m;
+}
+
+void ConstraintSolver::refreshNormal(std::uint32_t v) {
+  area_normals_[v] = areaNormal(v, std::numeric_limits<std::uint32_t>::max(), Vector3d::Zero());
+  const double length = area_normals_[v].norm();
+  normals_[v] = length > 0.0 ? Vector3d(area_normals_[v] / length) : Vector3d::Zero();
+}
+
+namespace {
+
+// The vertices whose normals move with vertex v: v and its neighbours, with their normals at the
+// trial position, and the index of each among them (per-thread scratch; `slot` is stamped, so it
+// is never cleared).
+struct MovedNormals {
+  std::vector<std::uint32_t> vertex;
+  std::vector<Vector3d> area;    // m
+  std::vector<Vector3d> normal;  // n
+  std::vector<Vector3d> adjoint;
+  std::vector<std::uint32_t> slot;   // per patch vertex: index into `vertex`
+  std::vector<std::uint64_t> stamp;  // per patch vertex: `slot` is valid when equal to `current`
+  std::uint64_t current = 0;
+
+  void begin(std::size_t patch_size) {
+    if (stamp.size() < patch_size) {
+      stamp.assign(patch_size, 0);
+      slot.resize(patch_size);
+    }
+    ++current;
+    vertex.clear();
+    area.clear();
+    normal.clear();
+  }
+  [[nodiscard]] int find(std::uint32_t v) const { return stamp[v] == current ? static_cast<int>(slot[v]) : -1; }
+};
+
+Vector3d unit(const Vector3d& m) {
+  const double length = m.norm();
+  return length > 0.0 ? Vector3d(m / length) : Vector3d::Zero();
+}
+
+}  // namespace
+
+ConstraintEnergy ConstraintSolver::energy() const {
+  ConstraintEnergy e;
+  const std::size_t n = patch_.positions.size();
+  for (std::size_t v = 0; v < n; ++v) {
+    const double d =
+        patch_.plane_normals[v].cast<double>().dot(x_[v] - patch_.measured[v].cast<double>());
+    e.geometry += d * d;
+    for (std::uint32_t k = neighbour_offsets_[v]; k < neighbour_offsets_[v + 1]; ++k) {
+      const Neighbour& nb = neighbours_[k];
+      if (nb.vertex < v) continue;  // each edge once
+      const double length = (x_[v] - x_[nb.vertex]).norm();
+      if (!(length > 0.0)) continue;
+      e.semantic += nb.semantic / length;
+      e.smoothness += nb.similarity / length * (normals_[v] - normals_[nb.vertex]).squaredNorm();
+    }
+  }
+  e.total = e.geometry + params_.lambda_sem * e.semantic + params_.lambda_smooth * e.smoothness;
+  return e;
+}
+
+ConstraintEnergy ConstraintSolver::localEnergy(std::uint32_t v, const Vector3d& x) const {
+  ConstraintEnergy e;
+  evaluate(v, x, &e, nullptr);
+  return e;
+}
+
+std::array<Vector3d, 3> ConstraintSolver::localGradient(std::uint32_t v, const Vector3d& x) const {
+  std::array<Vector3d, 3> g;
+  evaluate(v, x, nullptr, &g);
+  return g;
+}
+
+void ConstraintSolver::evaluate(std::uint32_t v, const Vector3d& x, ConstraintEnergy* energy,
+                                std::array<Vector3d, 3>* gradient) const {
+  // Stamps only grow, so an entry left by an earlier call (or an earlier patch) never matches.
+  thread_local MovedNormals moved;
+  moved.begin(x_.size());
+  const auto add = [&](std::uint32_t u) {
+    moved.stamp[u] = moved.current;
+    moved.slot[u] = static_cast<std::uint32_t>(moved.vertex.size());
+    moved.vertex.push_back(u);
+    moved.area.push_back(areaNormal(u, v, x));
+    moved.normal.push_back(unit(moved.area.back()));
+  };
+  add(v);
+  for (std::uint32_t k = neighbour_offsets_[v]; k < neighbour_offsets_[v + 1]; ++k) add(neighbours_[k].vertex);
+  const auto normal_of = [&](std::uint32_t q) -> const Vector3d& {
+    const int j = moved.find(q);
+    return j >= 0 ? moved.normal[static_cast<std::size_t>(j)] : normals_[q];
+  };
+  const Vector3d n_plane = patch_.plane_normals[v].cast<double>();
+  const double d = n_plane.dot(x - patch_.measured[v].cast<double>());
+
+  if (energy != nullptr) {
+    ConstraintEnergy& e = *energy;
+    e = {};
+    e.geometry = d * d;
+    for (std::uint32_t k = neighbour_offsets_[v]; k < neighbour_offsets_[v + 1]; ++k) {
+      const double length = (x - x_[neighbours_[k].vertex]).norm();
+      if (length > 0.0) e.semantic += neighbours_[k].semantic / length;
+    }
+    // Every edge with an end whose normal moves; an edge with both ends moving counts once.
+    for (std::size_t i = 0; i < moved.vertex.size(); ++i) {
+      const std::uint32_t p = moved.vertex[i];
+      for (std::uint32_t k = neighbour_offsets_[p]; k < neighbour_offsets_[p + 1]; ++k) {
+        const std::uint32_t q = neighbours_[k].vertex;
+        if (q < p && moved.find(q) >= 0) continue;
+        const double length = (position(p, v, x) - position(q, v, x)).norm();
+        if (!(length > 0.0)) continue;
+        e.smoothness += neighbours_[k].similarity / length * (moved.normal[i] - normal_of(q)).squaredNorm();
+      }
+    }
+    e.total = e.geometry + params_.lambda_sem * e.semantic + params_.lambda_smooth * e.smoothness;
+  }
+  if (gradient == nullptr) return;
+
+  std::array<Vector3d, 3>& g = *gradient;
+  // Geometry: d/dx (n . (x - p))^2.
+  g[0] = 2.0 * d * n_plane;
+  g[1] = Vector3d::Zero();
+  g[2] = Vector3d::Zero();
+  // Semantic and the edge-length part of smoothness: d/dx (1 / |x - x_j|) = -(x - x_j) / L^3.
+  for (std::uint32_t k = neighbour_offsets_[v]; k < neighbour_offsets_[v + 1]; ++k) {
+    const Neighbour& nb = neighbours_[k];
+    const Vector3d e = x - x_[nb.vertex];
+    const double length = e.norm();
+    if (!(length > 0.0)) continue;
+    const Vector3d d_inv_length = -e / (length * length * length);
+    g[1] += nb.semantic * d_inv_length;
+    const auto j = static_cast<std::size_t>(k - neighbour_offsets_[v]) + 1;  // moved index of nb.vertex
+    g[2] += nb.similarity * (moved.normal[0] - moved.normal[j]).squaredNorm() * d_inv_length;
+  }
+  // The normal part of smoothness. With E depending on n_p through the edges of p,
+  // dE/dn_p = sum_q 2 w_pq (n_p - n_q); through n = m / |m|, dE/dm_p = (I - n n^T) dE/dn_p / |m_p|
+  // = u_p. m_p sums its faces' area vectors m_f = x0 x x1 + x1 x x2 + x2 x x0, whose derivative
+  // with respect to corner k is [x_{k-1} - x_{k+1}]_x, so u . dm_f/dx_k = u x (x_{k-1} - x_{k+1})
+  // as a gradient. Summed over the faces of v: sum_f (sum of u over f's corners) x (...).
+  moved.adjoint.assign(moved.vertex.size(), Vector3d::Zero());
+  for (std::size_t i = 0; i < moved.vertex.size(); ++i) {
+    const std::uint32_t p = moved.vertex[i];
+    const double m_length = moved.area[i].norm();
+    if (!(m_length > 0.0)) continue;
+    Vector3d a = Vector3d::Zero();
+    for (std::uint32_t k = neighbour_offsets_[p]; k < neighbour_offsets_[p + 1]; ++k) {
+      const std::uint32_t q = neighbours_[k].vertex;
+      const double length = (position(p, v, x) - position(q, v, x)).norm();
+      if (!(length > 0.0)) continue;
+      a += 2.0 * neighbours_[k].similarity / length * (moved.normal[i] - normal_of(q));
+    }
+    const Vector3d& n_p = moved.normal[i];
+    moved.adjoint[i] = (a - n_p * n_p.dot(a)) / m_length;
+  }
+  for (std::uint32_t k = face_offsets_[v]; k < face_offsets_[v + 1]; ++k) {
+    const Face& f = patch_.faces[vertex_faces_[k]];
+    Vector3d u = Vector3d::Zero();
+    int corner = 0;
+    for (int c = 0; c < 3; ++c) {
+      u += moved.adjoint[static_cast<std::size_t>(moved.find(f[static_cast<std::size_t>(c)]))];
+      if (f[static_cast<std::size_t>(c)] == v) corner = c;
+    }
+    const Vector3d& before = position(f[static_cast<std::size_t>((corner + 2) % 3)], v, x);
+    const Vector3d& after = position(f[static_cast<std::size_t>((corner + 1) % 3)], v, x);
+    g[2] += u.cross(before - after);
+  }
+}
+
+double ConstraintSolver::relax(std::uint32_t v) {
+  const Vector3d measured = patch_.measured[v].cast<double>();
+  Vector3d x = x_[v];
+  double start = 0.0;  // evaluated once a step is worth trying
+  double current = 0.0;
+  // Curvature estimate per term, for the step's scale: 2 |n_V|^2 for geometry; about 2 w / L^2
+  // per edge for a normal turning by |dx| / L (from each end: 4 w / L^2); 2 w_sem / L^2 for 1 / L.
+  double h = 2.0 * patch_.plane_normals[v].cast<double>().squaredNorm();
+  for (std::uint32_t k = neighbour_offsets_[v]; k < neighbour_offsets_[v + 1]; ++k) {
+    const double length = (x - x_[neighbours_[k].vertex]).norm();
+    if (!(length > 0.0)) continue;
+    const double l3 = length * length * length;
+    h += params_.lambda_smooth * 4.0 * neighbours_[k].similarity / l3 +
+         params_.lambda_sem * 2.0 * neighbours_[k].semantic / l3;
+  }
+  if (!(h > 0.0)) h = 1.0;
+  for (int step = 0; step < params_.steps; ++step) {
+    std::array<Vector3d, 3> g;
+    ConstraintEnergy here;
+    evaluate(v, x, step == 0 ? &here : nullptr, &g);
+    Vector3d dx = -(g[0] + params_.lambda_sem * g[1] + params_.lambda_smooth * g[2]) / h;
+    const double length = dx.norm();
+    if (!(length > params_.min_step_m)) break;
+    if (step == 0) {
+      start = here.total;
+      current = start;
+    }
+    if (length > params_.max_step_m) dx *= params_.max_step_m / length;
+    bool accepted = false;
+    for (int halving = 0; halving < 4 && !accepted; ++halving, dx *= 0.5) {
+      Vector3d trial = x + dx;
+      const Vector3d offset = trial - measured;
+      if (offset.norm() > params_.max_offset_m) trial = measured + offset * (params_.max_offset_m / offset.norm());
+      const double e = localEnergy(v, trial).total;
+      if (e < current) {
+        x = trial;
+        current = e;
+        accepted = true;
+      }
+    }
+    if (!accepted) break;
+  }
+  if (!(current < start)) return 0.0;
+  x_[v] = x;
+  patch_.positions[v] = x.cast<float>();
+  refreshNormal(v);
+  for (std::uint32_t k = neighbour_offsets_[v]; k < neighbour_offsets_[v + 1]; ++k) refreshNormal(neighbours_[k].vertex);
+  return start - current;
+}
+
+double ConstraintSolver::sweep() {
+  double lowered = 0.0;
+  std::vector<double> per_group;
+  for (const auto& groups : phases_) {
+    per_group.assign(groups.size(), 0.0);
+    tbb::parallel_for(std::size_t{0}, groups.size(), [&](std::size_t g) {
+      for (const std::uint32_t v : groups[g]) per_group[g] += relax(v);
+    });
+    for (const double d : per_group) lowered += d;  // in group order: the same sum on any thread count
+  }
+  return lowered;
+}
+
+void ConstraintSolver::solve(ConstraintStats& stats) {
+  double e = energy().total;
+  stats.energy_before = e;
+  stats.sweeps = 0;
+  for (int s = 0; s < params_.max_sweeps; ++s) {
+    const double lowered = sweep();
+    ++stats.sweeps;
+    e -= lowered;
+    if (!(lowered > params_.tolerance * std::abs(e))) break;
+  }
+  stats.energy_after = energy().total;
+}
+
+SemanticConstraint::SemanticConstraint(const SemanticConstraintParams& params, double confidence_lambda)
+    : params_(params), confidence_lambda_(confidence_lambda) {
+  const auto ok = [](double value) { return std::isfinite(value) && value >= 0.0; };
+  if (!ok(params.lambda_sem) || !ok(params.lambda_smooth) || !ok(params.temperature) || !ok(params.tolerance) ||
+      !ok(params.max_offset_m) || !ok(params.min_step_m) || !(params.max_step_m > 0.0) || !ok(params.max_step_m) || !ok(params.cut_similarity) ||
+      !ok(params.cut_depth_gap_m) || params.max_sweeps < 1 || params.steps < 1 || !(confidence_lambda > 0.0)) {
+    throw std::invalid_argument(
+        "semantic constraint: lambda_sem, lambda_smooth, temperature, tolerance, max_offset_m, cut_similarity and "
+        "cut_depth_gap_m must be finite and >= 0, max_step_m and the confidence lambda > 0, sweeps and steps >= 1");
+  }
+}
+
+bool SemanticConstraint::cuts(const SemanticMesh& mesh, const Face& f) const {
+  const auto& x = mesh.positions();
+  const auto& views = mesh.viewDirections();
+  thread_local std::vector<float> p;
+  thread_local std::vector<float> q;
+  const std::size_t slots = mesh.slotCount();
+  if (slots < 2) return false;
+  p.resize(slots);
+  q.resize(slots);
+  for (int k = 0; k < 3; ++k) {
+    const std::uint32_t a = f[static_cast<std::size_t>(k)];
+    const std::uint32_t b = f[static_cast<std::size_t>((k + 1) % 3)];
+    const Eigen::Vector3f ray = (views[a] + views[b]).normalized();
+    if (!(std::abs((x[a] - x[b]).dot(ray)) > params_.cut_depth_gap_m)) continue;
+    if (!mesh.distribution(a, p.data()) || !mesh.distribution(b, q.data())) continue;  // unobserved: no evidence
+    const double similarity = std::exp(-params_.temperature * std::sqrt(jensenShannon(p.data(), q.data(), slots)));
+    if (similarity < params_.cut_similarity) return true;
+  }
+  return false;
+}
+
+ConstraintStats SemanticConstraint::apply(const VoxelMap& map, SemanticMesh& mesh,
+                                          const std::vector<VoxelKey>& meshed) {
+  ConstraintStats stats;
+  if (!params_.enabled || meshed.empty()) return stats;
+  Stopwatch clock;
+
+  // The patch: faces of the meshed voxels and of their neighbours.
+  std::vector<VoxelKey> keys;
+  keys.reserve(meshed.size() * 27);
+  for (const VoxelKey& key : meshed) {
+    for (int dx = -1; dx <= 1; ++dx) {
+      for (int dy = -1; dy <= 1; ++dy) {
+        for (int dz = -1; dz <= 1; ++dz) keys.push_back({key.x + dx, key.y + dy, key.z + dz});
+      }
+    }
+  }
+  std::sort(keys.begin(), keys.end());
+  keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
+
+  if (local_of_.size() < mesh.vertexCount()) {
+    local_of_.resize(mesh.vertexCount(), 0);
+    level_.resize(mesh.vertexCount(), 0);
+    stamp_.resize(mesh.vertexCount(), 0);
+  }
+  if (++current_stamp_ == 0) {  // wrapped: forget every old stamp
+    std::fill(stamp_.begin(), stamp_.end(), 0);
+    current_stamp_ = 1;
+  }
+  // Level of each vertex this solve: 1 active (may move), 2 a neighbour of one (its normal moves).
+  const auto level = [&](std::uint32_t v) { return stamp_[v] == current_stamp_ ? level_[v] : std::uint8_t{0}; };
+  const auto mark = [&](std::uint32_t v, std::uint8_t l) {
+    stamp_[v] = current_stamp_;
+    level_[v] = l;
+  };
+  for (const VoxelKey& key : meshed) {
+    const Voxel* voxel = map.find(key);
+    if (voxel == nullptr) continue;
+    for (const std::uint32_t v : voxel->vertices) mark(v, 1);
+  }
+  std::vector<const std::vector<Face>*> lists;
+  for (const VoxelKey& key : keys) {
+    if (const std::vector<Face>* faces = mesh.voxelFaces(key); faces != nullptr) lists.push_back(faces);
+  }
+  for (const auto* faces : lists) {
+    for (const Face& f : *faces) {
+      if (level(f[0]) != 1 && level(f[1]) != 1 && level(f[2]) != 1) continue;
+      for (const std::uint32_t v : f) {
+        if (level(v) == 0) mark(v, 2);
+      }
+    }
+  }
+  // The patch: every face with an active vertex or a neighbour of one (what their normals sum).
+  ConstraintPatch patch;
+  patch.slots = mesh.slotCount();
+  std::vector<std::uint32_t> global;  // patch index -> mesh vertex
+  const auto local = [&](std::uint32_t v) {
+    if (level_[v] < 3) {  // not numbered yet: levels 3 and 4 are numbered 1 and 2
+      level_[v] = static_cast<std::uint8_t>(level_[v] == 0 ? 5 : level_[v] + 2);
+      local_of_[v] = static_cast<std::uint32_t>(global.size());
+      global.push_back(v);
+    }
+    return local_of_[v];
+  };
+  const auto inner = [&](std::uint32_t v) {
+    const std::uint8_t l = level(v);
+    return l >= 1 && l <= 4;  // active or its neighbour, numbered or not
+  };
+  for (const auto* faces : lists) {
+    for (const Face& f : *faces) {
+      if (!inner(f[0]) && !inner(f[1]) && !inner(f[2])) continue;
+      for (const std::uint32_t v : f) {
+        if (stamp_[v] != current_stamp_) mark(v, 0);
+      }
+      patch.faces.push_back({local(f[0]), local(f[1]), local(f[2])});
+    }
+  }
+  const std::size_t n = global.size();
+  patch.positions.resize(n);
+  patch.measured.resize(n);
+  patch.plane_normals.resize(n);
+  patch.confidence.resize(n);
+  patch.distributions.resize(n * patch.slots);
+  patch.active.assign(n, 0);
+  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
+    const std::uint32_t v = global[i];
+    patch.positions[i] = mesh.positions()[v];
+    patch.measured[i] = mesh.measuredPositions()[v];
+    patch.plane_normals[i] = mesh.normals()[v];
+    patch.confidence[i] = mesh.confidence(v, confidence_lambda_);
+    patch.active[i] = level_[v] == 3 ? 1 : 0;
+    float* out = &patch.distributions[i * patch.slots];
+    if (!mesh.distribution(v, out)) std::fill_n(out, patch.slots, 1.0f / static_cast<float>(patch.slots));
+  });
+  // Parallel schedule: blocks of b^3 voxels coloured by the parity of their coordinates. Two
+  // vertices of same-coloured blocks are at least b voxels apart, less what each may move; a
+  // vertex's update reads and writes within three edges of it, and no edge of the patch can grow
+  // beyond its measured length plus twice max_offset_m.
+  double longest = 0.0;
+  for (const Face& f : patch.faces) {
+    for (int k = 0; k < 3; ++k) {
+      const double length =
+          (patch.measured[f[static_cast<std::size_t>(k)]] - patch.measured[f[static_cast<std::size_t>((k + 1) % 3)]])
+              .norm();
+      longest = std::max(longest, length);
+    }
+  }
+  const double reach = 3.0 * (longest + 2.0 * params_.max_offset_m) + 2.0 * params_.max_offset_m;
+  const auto side = static_cast<std::int64_t>(std::floor(reach / map.voxelSize())) + 1;
+  patch.block.resize(n);
+  patch.colour.resize(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const VoxelKey& key = mesh.voxels()[global[i]];
+    const auto floor_div = [side](std::int32_t a) {
+      const auto v = static_cast<std::int64_t>(a);
+      return v >= 0 ? v / side : -((-v + side - 1) / side);
+    };
+    const std::int64_t bx = floor_div(key.x);
+    const std::int64_t by = floor_div(key.y);
+    const std::int64_t bz = floor_div(key.z);
+    patch.block[i] = (static_cast<std::uint64_t>(bx & 0x1FFFFF) << 42) | (static_cast<std::uint64_t>(by & 0x1FFFFF) << 21) |
+                     static_cast<std::uint64_t>(bz & 0x1FFFFF);
+    patch.colour[i] = static_cast<std::uint8_t>((bx & 1) | ((by & 1) << 1) | ((bz & 1) << 2));
+  }
+  stats.patch_vertices = n;
+  stats.active_vertices = static_cast<std::size_t>(std::count(patch.active.begin(), patch.active.end(), 1));
+
+  ConstraintSolver solver(params_, patch);
+  const double setup_ms = clock.elapsedMs();
+  solver.solve(stats);
+  stats.build_ms = setup_ms;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (patch.active[i] != 0) mesh.setPosition(global[i], patch.positions[i]);
+  }
+  stats.ms = clock.elapsedMs();
+  return stats;
+}
+
+}  // namespace artemis::mapping
