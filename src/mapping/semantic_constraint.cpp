@@ -92,7 +92,7 @@ ConstraintSolver::ConstraintSolver(const SemanticConstraintParams& params, Const
         // Equal distributions (both never observed, or one voxel's prior) are common: JS 0, sim 1.
         const double js = std::equal(p, p + slots, q) ? 0.0 : jensenShannon(p, q, slots);
         neighbours_[neighbour_offsets_[v] + i] = {
-            u, static_cast<float>(std::exp(-params.temperature * std::sqrt(js))),
+            u, static_cast<float>(semanticSimilarity(js, params.temperature)),
             static_cast<float>(static_cast<double>(patch.confidence[v]) * patch.confidence[u] * js)};
       }
     }
@@ -118,7 +118,7 @@ ConstraintSolver::ConstraintSolver(const SemanticConstraintParams& params, Const
     }
     struct Slot {
       std::uint8_t colour;
-      std::uint64_t block;
+      VoxelKey block;
       std::uint32_t vertex;
     };
     std::vector<Slot> order;
@@ -387,7 +387,7 @@ void ConstraintSolver::solve(ConstraintStats& stats) {
     e -= lowered;
     if (!(lowered > params_.tolerance * std::abs(e))) break;
   }
-  stats.energy_after = energy().total;
+  stats.energy_after = e;
 }
 
 SemanticConstraint::SemanticConstraint(const SemanticConstraintParams& params, double confidence_lambda)
@@ -417,7 +417,7 @@ bool SemanticConstraint::cuts(const SemanticMesh& mesh, const Face& f) const {
     const Eigen::Vector3f ray = (views[a] + views[b]).normalized();
     if (!(std::abs((x[a] - x[b]).dot(ray)) > params_.cut_depth_gap_m)) continue;
     if (!mesh.distribution(a, p.data()) || !mesh.distribution(b, q.data())) continue;  // unobserved: no evidence
-    const double similarity = std::exp(-params_.temperature * std::sqrt(jensenShannon(p.data(), q.data(), slots)));
+    const double similarity = semanticSimilarity(jensenShannon(p.data(), q.data(), slots), params_.temperature);
     if (similarity < params_.cut_similarity) return true;
   }
   return false;
@@ -443,12 +443,14 @@ ConstraintStats SemanticConstraint::apply(const VoxelMap& map, SemanticMesh& mes
   keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
 
   if (local_of_.size() < mesh.vertexCount()) {
-    local_of_.resize(mesh.vertexCount(), 0);
     level_.resize(mesh.vertexCount(), 0);
     stamp_.resize(mesh.vertexCount(), 0);
+    local_of_.resize(mesh.vertexCount(), 0);
+    numbered_.resize(mesh.vertexCount(), 0);
   }
   if (++current_stamp_ == 0) {  // wrapped: forget every old stamp
     std::fill(stamp_.begin(), stamp_.end(), 0);
+    std::fill(numbered_.begin(), numbered_.end(), 0);
     current_stamp_ = 1;
   }
   // Level of each vertex this solve: 1 active (may move), 2 a neighbour of one (its normal moves).
@@ -479,23 +481,16 @@ ConstraintStats SemanticConstraint::apply(const VoxelMap& map, SemanticMesh& mes
   patch.slots = mesh.slotCount();
   std::vector<std::uint32_t> global;  // patch index -> mesh vertex
   const auto local = [&](std::uint32_t v) {
-    if (level_[v] < 3) {  // not numbered yet: levels 3 and 4 are numbered 1 and 2
-      level_[v] = static_cast<std::uint8_t>(level_[v] == 0 ? 5 : level_[v] + 2);
+    if (numbered_[v] != current_stamp_) {
+      numbered_[v] = current_stamp_;
       local_of_[v] = static_cast<std::uint32_t>(global.size());
       global.push_back(v);
     }
     return local_of_[v];
   };
-  const auto inner = [&](std::uint32_t v) {
-    const std::uint8_t l = level(v);
-    return l >= 1 && l <= 4;  // active or its neighbour, numbered or not
-  };
   for (const auto* faces : lists) {
     for (const Face& f : *faces) {
-      if (!inner(f[0]) && !inner(f[1]) && !inner(f[2])) continue;
-      for (const std::uint32_t v : f) {
-        if (stamp_[v] != current_stamp_) mark(v, 0);
-      }
+      if (level(f[0]) == 0 && level(f[1]) == 0 && level(f[2]) == 0) continue;
       patch.faces.push_back({local(f[0]), local(f[1]), local(f[2])});
     }
   }
@@ -512,7 +507,7 @@ ConstraintStats SemanticConstraint::apply(const VoxelMap& map, SemanticMesh& mes
     patch.measured[i] = mesh.measuredPositions()[v];
     patch.plane_normals[i] = mesh.normals()[v];
     patch.confidence[i] = mesh.confidence(v, confidence_lambda_);
-    patch.active[i] = level_[v] == 3 ? 1 : 0;
+    patch.active[i] = level(v) == 1 ? 1 : 0;
     float* out = &patch.distributions[i * patch.slots];
     if (!mesh.distribution(v, out)) std::fill_n(out, patch.slots, 1.0f / static_cast<float>(patch.slots));
   });
@@ -530,29 +525,19 @@ ConstraintStats SemanticConstraint::apply(const VoxelMap& map, SemanticMesh& mes
     }
   }
   const double reach = 3.0 * (longest + 2.0 * params_.max_offset_m) + 2.0 * params_.max_offset_m;
-  const auto side = static_cast<std::int64_t>(std::floor(reach / map.voxelSize())) + 1;
+  const auto side = static_cast<std::int32_t>(std::floor(reach / map.voxelSize())) + 1;
   patch.block.resize(n);
   patch.colour.resize(n);
   for (std::size_t i = 0; i < n; ++i) {
-    const VoxelKey& key = mesh.voxels()[global[i]];
-    const auto floor_div = [side](std::int32_t a) {
-      const auto v = static_cast<std::int64_t>(a);
-      return v >= 0 ? v / side : -((-v + side - 1) / side);
-    };
-    const std::int64_t bx = floor_div(key.x);
-    const std::int64_t by = floor_div(key.y);
-    const std::int64_t bz = floor_div(key.z);
-    patch.block[i] = (static_cast<std::uint64_t>(bx & 0x1FFFFF) << 42) | (static_cast<std::uint64_t>(by & 0x1FFFFF) << 21) |
-                     static_cast<std::uint64_t>(bz & 0x1FFFFF);
-    patch.colour[i] = static_cast<std::uint8_t>((bx & 1) | ((by & 1) << 1) | ((bz & 1) << 2));
+    const VoxelKey block = coarserKey(mesh.voxels()[global[i]], side);
+    patch.block[i] = block;
+    patch.colour[i] = static_cast<std::uint8_t>((block.x & 1) | ((block.y & 1) << 1) | ((block.z & 1) << 2));
   }
   stats.patch_vertices = n;
   stats.active_vertices = static_cast<std::size_t>(std::count(patch.active.begin(), patch.active.end(), 1));
 
   ConstraintSolver solver(params_, patch);
-  const double setup_ms = clock.elapsedMs();
   solver.solve(stats);
-  stats.build_ms = setup_ms;
   for (std::size_t i = 0; i < n; ++i) {
     if (patch.active[i] != 0) mesh.setPosition(global[i], patch.positions[i]);
   }

@@ -42,10 +42,7 @@ std::uint32_t VoxelMap::findOrAdd(const VoxelKey& key, std::uint64_t hash) {
   const auto index = static_cast<std::uint32_t>(voxels_.size());
   voxels_.emplace_back();
   keys_.push_back(key);
-  const auto floor_div = [](std::int32_t a) {
-    return a >= 0 ? a / kBlockVoxels : -((-a + kBlockVoxels - 1) / kBlockVoxels);
-  };
-  const VoxelKey block{floor_div(key.x), floor_div(key.y), floor_div(key.z)};
+  const VoxelKey block = coarserKey(key, kBlockVoxels);
   const auto [it, added] = block_of_.try_emplace(block, static_cast<std::uint32_t>(blocks_.size()));
   if (added) blocks_.push_back({block, {}});
   blocks_[it->second].voxels.push_back(index);

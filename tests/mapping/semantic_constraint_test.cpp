@@ -219,8 +219,8 @@ TEST(SemanticConstraint, ResultsDoNotDependOnTheThreadCount) {
         [](double, double) { return Vector3f(0, 0, 1); }, [](double u, double) { return u < 3.0 ? 0 : 1; });
     // Blocks of 2.5 m along u, coloured alternately: vertices of same-coloured blocks are 2.5 m apart.
     for (std::size_t i = 0; i < patch.positions.size(); ++i) {
-      const auto block = static_cast<std::uint64_t>(patch.positions[i].x() / 2.5f);
-      patch.block.push_back(block);
+      const auto block = static_cast<std::int32_t>(patch.positions[i].x() / 2.5f);
+      patch.block.push_back({block, 0, 0});
       patch.colour.push_back(static_cast<std::uint8_t>(block % 2));
     }
     tbb::task_arena arena(threads);
@@ -298,8 +298,6 @@ TEST(SemanticConstraint, ThePatchGrowsWithTheActiveVoxelsNotWithTheMap) {
   }
   map.insert(points, Vector3f(20, 20, 2), mesh);
   // Faces: a simple grid over the kept points, each owned by the voxel of its first corner.
-  std::vector<std::vector<Face>> per_voxel(map.size());
-  std::vector<VoxelKey> keys = map.keys();
   const auto vertex_at = [&](int i, int j) { return static_cast<std::uint32_t>(i * 400 + j); };
   std::unordered_map<VoxelKey, std::vector<Face>, VoxelKeyHash> faces;
   for (int i = 0; i + 1 < 400; ++i) {

@@ -37,6 +37,7 @@
 // are taken over the patch's faces.
 
 #include <array>
+#include <cmath>
 #include <cstdint>
 #include <vector>
 
@@ -86,7 +87,7 @@ struct ConstraintPatch {
   // order; the caller guarantees that vertices of two blocks of the same colour never share a term
   // or a neighbour's normal (more than three edges apart), so the result does not depend on the
   // thread count. Empty: one sequential sweep in index order.
-  std::vector<std::uint64_t> block;
+  std::vector<VoxelKey> block;
   std::vector<std::uint8_t> colour;
 };
 
@@ -100,7 +101,6 @@ struct ConstraintEnergy {
 
 struct ConstraintStats {
   double ms = 0.0;
-  double build_ms = 0.0;  // gathering the patch and its adjacency, before the sweeps
   std::size_t active_vertices = 0;
   std::size_t patch_vertices = 0;
   int sweeps = 0;
@@ -111,6 +111,8 @@ struct ConstraintStats {
 
 // Jensen-Shannon divergence of two distributions over n slots, in nats (0 .. ln 2).
 double jensenShannon(const float* p, const float* q, std::size_t n);
+// sim of eq. 5: exp(-tau sqrt(JS)).
+inline double semanticSimilarity(double js, double temperature) { return std::exp(-temperature * std::sqrt(js)); }
 
 class ConstraintSolver {
  public:
@@ -180,11 +182,13 @@ class SemanticConstraint {
  private:
   SemanticConstraintParams params_;
   double confidence_lambda_;
-  // Per mesh vertex, valid where stamp_ is the current solve's: its patch index and its level
-  // (0 in a patch face only, 1 active, 2 a neighbour of an active one; + 3 once numbered).
-  std::vector<std::uint32_t> local_of_;
+  // Per mesh vertex, for the current solve (stamp): its level, valid where stamp_ matches (1 active,
+  // 2 a neighbour of an active vertex, 0 only a corner of a patch face), and its patch index, valid
+  // where numbered_ matches.
   std::vector<std::uint8_t> level_;
   std::vector<std::uint32_t> stamp_;
+  std::vector<std::uint32_t> local_of_;
+  std::vector<std::uint32_t> numbered_;
   std::uint32_t current_stamp_ = 0;
 };
 

@@ -32,6 +32,12 @@ struct VoxelKeyHash {
   }
 };
 
+// The key of the block of factor^3 voxels that holds voxel k (coordinates divided, rounded down).
+inline VoxelKey coarserKey(const VoxelKey& k, std::int32_t factor) {
+  const auto down = [factor](std::int32_t a) { return a >= 0 ? a / factor : -((-a + factor - 1) / factor); };
+  return {down(k.x), down(k.y), down(k.z)};
+}
+
 inline VoxelKey voxelKeyOf(const Eigen::Vector3f& p, float inv_voxel_size) {
   return {static_cast<std::int32_t>(std::floor(p.x() * inv_voxel_size)),
           static_cast<std::int32_t>(std::floor(p.y() * inv_voxel_size)),
