@@ -336,7 +336,6 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
     report.times.add("mesh", stats.mesh_ms);
     if (params.mapper.constraint.enabled) report.times.add("constrain", stats.constrain_ms);
     report.faces_cut += stats.faces_cut;
-    // Stage 2: texture refinement from this frame's image, unless the frame is held out.
     // Stage 2: colours (unless the frame is held out of texturing) and classes (when segmented).
     bool texture = false;
     if (params.texture) {

@@ -94,6 +94,19 @@ TEST(RunSemantics, SimulatedSegmenterWritesClassesConfidenceAndColours) {
   EXPECT_NE(r.out.find("semantic refinement: 4 frames"), std::string::npos) << r.out;
   EXPECT_TRUE(timing["stages"].contains("refine"));
   EXPECT_EQ(readJson(out / "config.json")["semantics"]["semantic_refinement"], true);
+  // Stage 1d ran, and says so.
+  EXPECT_TRUE(timing["stages"].contains("constrain"));
+  EXPECT_EQ(readJson(out / "config.json")["semantic_constraint"]["on"], true);
+  EXPECT_NE(r.out.find("semantic constraint per frame"), std::string::npos) << r.out;
+
+  // Its ablation: no stage 1d, written down in the run's settings.
+  const fs::path unconstrained = tmp / "no_constraint";
+  const auto u = runCli("run " + sim.string() + " --query \"cars and buildings\" --segmenter sim --texture off " +
+                        "--no-semantic-constraint --out " + unconstrained.string());
+  ASSERT_EQ(u.exit_code, 0) << u.err;
+  EXPECT_EQ(u.out.find("semantic constraint"), std::string::npos) << u.out;
+  EXPECT_EQ(readJson(unconstrained / "config.json")["semantic_constraint"]["on"], false);
+  EXPECT_FALSE(readJson(unconstrained / "timing.json")["stages"].contains("constrain"));
 
   // The ablation: stage 1's classes alone, written down in the run's settings.
   const fs::path off = tmp / "no_refinement";
