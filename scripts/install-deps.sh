@@ -16,7 +16,12 @@ packages=(
   libgtest-dev libgmock-dev libbenchmark-dev
   # interoperability checks (tests load our files with Open3D)
   python3 python3-numpy python3-open3d
+  # the browser viewer: Node.js installs three.js and the test tools from npm; the browser tests
+  # drive Debian's Chromium
+  nodejs chromium
 )
+# Debian packages npm apart from Node.js; other Node.js builds bring their own.
+command -v npm >/dev/null 2>&1 || packages+=(npm)
 
 missing=()
 for p in "${packages[@]}"; do
@@ -25,8 +30,23 @@ for p in "${packages[@]}"; do
   fi
 done
 
+# The viewer's npm packages (three.js, and playwright-core and gltf-validator for the tests), as
+# pinned in viewer/package-lock.json, into viewer/node_modules; skipped when they are current.
+install_npm() {
+  local viewer
+  viewer="$(cd "$(dirname "$0")/.." && pwd)/viewer"
+  if [ -f "$viewer/node_modules/.package-lock.json" ] &&
+     [ "$viewer/node_modules/.package-lock.json" -nt "$viewer/package-lock.json" ]; then
+    echo "install-deps: viewer npm packages present"
+    return 0
+  fi
+  echo "install-deps: installing the viewer's npm packages"
+  npm ci --prefix "$viewer" --no-audit --no-fund --ignore-scripts
+}
+
 if [ ${#missing[@]} -eq 0 ]; then
   echo "install-deps: all ${#packages[@]} packages present"
+  install_npm
   exit 0
 fi
 
@@ -40,4 +60,5 @@ echo "install-deps: installing ${missing[*]}"
 export DEBIAN_FRONTEND=noninteractive
 "${sudo_cmd[@]}" apt-get update -qq
 "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
+install_npm
 echo "install-deps: done"

@@ -14,6 +14,11 @@
 #include "dataset_flags.hpp"
 #include "progress.hpp"
 #include "segmenter_setup.hpp"
+#include "viewer/flags.hpp"
+#include "viewer/live.hpp"
+#include "viewer/scene.hpp"
+#include "viewer/server.hpp"
+#include "viewer/session.hpp"
 
 namespace artemis::cli {
 namespace {
@@ -35,6 +40,10 @@ struct RunFlags {
   std::string vocabulary;
   std::string aliases;
   std::string texture = "auto";
+  // Live viewer
+  bool viewer = false;
+  ViewerFlags viewer_flags;
+  double viewer_linger_s = -1.0;
 };
 
 struct SemanticSetup {
@@ -207,6 +216,9 @@ Result<std::string> demoDataset(const fs::path& out) {
   return where.string();
 }
 
+void printSummary(const RunFlags& flags, const pipeline::RunReport& report_value, const Stopwatch& clock,
+                  bool semantic_on);
+
 int runRun(RunFlags flags) {
   if (flags.dataset.path.empty()) {
     auto demo = demoDataset(flags.out);
@@ -250,6 +262,43 @@ int runRun(RunFlags flags) {
   const std::string config = configJson(flags, (*dataset)->root().string()).dump(2) + "\n";
   log::info("settings: {}", nlohmann::json::parse(config).dump());
   log::info("{} frames of {} ({})", (*dataset)->size(), (*dataset)->root().string(), (*dataset)->format());
+  // The live viewer: started before the first frame, it shows the map as it grows.
+  viewer::Scene scene;
+  std::unique_ptr<viewer::Server> server;
+  std::unique_ptr<viewer::LivePublisher> publisher;
+  if (flags.viewer) {
+    semantics::ActiveBrush* brush = *semantic ? &(*semantic)->brush : nullptr;
+    const semantics::Vocabulary& vocabulary =
+        *semantic ? (*semantic)->vocabulary : semantics::Vocabulary::semanticKitti();
+    scene.setInfo("title", fs::path(flags.out).lexically_normal().filename().string());
+    scene.setInfo("textured", flags.params.texture);
+    scene.setInfo("vocabulary", viewer::vocabularyJson(vocabulary));
+    scene.setInfo("classes", viewer::classesJson(vocabulary, brush != nullptr ? brush->prompts()
+                                                                             : std::vector<semantics::ClassId>{}));
+    scene.setInfo("status", viewer::statusJson({}, 0, (*dataset)->size(), (*dataset)->firstIndex(), true));
+    auto query = viewer::makeQueryFn(vocabulary, {}, brush);
+    if (!query) {
+      log::error("{}", query.status().message());
+      return 1;
+    }
+    viewer::ServerParams server_params = flags.viewer_flags.serverParams();
+    server_params.run_dir = flags.out;
+    server = std::make_unique<viewer::Server>(scene, server_params, *query);
+    auto port = server->start();
+    if (!port) {
+      log::error("{}", port.status().message());
+      return 1;
+    }
+    const auto block_voxels = static_cast<std::int32_t>(
+        std::max(1.0, std::round(flags.viewer_flags.block_m / flags.params.mapper.voxels.voxel_size_m)));
+    publisher = std::make_unique<viewer::LivePublisher>(scene, block_voxels);
+    flags.params.observer = [&scene, &publisher, brush, &vocabulary](const pipeline::FrameUpdate& update) {
+      if (brush != nullptr) scene.setInfo("classes", viewer::classesJson(vocabulary, brush->prompts()));
+      publisher->onFrame(update);
+    };
+    fmt::print("viewer: {} (live)\n", server->url());
+    std::fflush(stdout);
+  }
   Stopwatch clock;
   ProgressLine progress("mapping", "frames");
   auto report = pipeline::runPipeline(**dataset, flags.params, flags.out, config,
@@ -259,6 +308,23 @@ int runRun(RunFlags flags) {
     log::error("{}", report.status().message());
     return 1;
   }
+  if (server) {
+    const auto linger = flags.viewer_linger_s;
+    printSummary(flags, *report, clock, *semantic != nullptr);
+    fmt::print("viewer: {} shows the finished map{}\n", server->url(),
+               linger < 0 ? " (Ctrl-C to stop)" : fmt::format(" for {:.0f} s", linger));
+    std::fflush(stdout);
+    viewer::waitForInterrupt(linger);
+    server->stop();
+    return 0;
+  }
+  printSummary(flags, *report, clock, *semantic != nullptr);
+  return 0;
+}
+
+void printSummary(const RunFlags& flags, const pipeline::RunReport& report_value, const Stopwatch& clock,
+                  bool semantic_on) {
+  const pipeline::RunReport* report = &report_value;
   const auto total = report->times.summary("total");
   const auto insert = report->times.summary("insert");
   const auto mesh = report->times.summary("mesh");
@@ -294,7 +360,7 @@ int runRun(RunFlags flags) {
     }
     fmt::print("refine per frame (median / p95 ms) {:.1f} / {:.1f}\n", refine_t.median_ms, refine_t.p95_ms);
   }
-  if (*semantic) {
+  if (semantic_on) {
     const auto fuse = report->times.summary("fuse");
     const auto segment = report->times.summary("segment");
     fmt::print(
@@ -304,7 +370,6 @@ int runRun(RunFlags flags) {
         report->frames_observed, report->frames_unobserved, report->vertices_labelled, report->vertices, flags.out,
         flags.out, fuse.median_ms, fuse.p95_ms, flags.segmenter, segment.median_ms, segment.p95_ms);
   }
-  return 0;
 }
 
 }  // namespace
@@ -415,6 +480,11 @@ void addRunCommand(CLI::App& app, int& exit_code) {
   cmd->add_option("--seed", flags->seed, "sim: seed of the segmenter's noise")->capture_default_str();
   cmd->add_option("--masks", flags->masks, "maskfile: folder of NNNNNN.png + NNNNNN.json per frame (see README)");
   cmd->add_option("--sim-gt", flags->sim_gt, "sim: the simulator's gt/ folder (default: found beside the recording)");
+  cmd->add_flag("--viewer", flags->viewer,
+                "Serve the live browser viewer while mapping (http://127.0.0.1:8080/ unless --viewer-port/--viewer-host)");
+  addViewerFlags(*cmd, flags->viewer_flags, "viewer-");
+  cmd->add_option("--viewer-linger", flags->viewer_linger_s,
+                  "Viewer: seconds to keep serving the finished map (default: until Ctrl-C)");
   cmd->add_option("--vocabulary", flags->vocabulary, "Class vocabulary JSON (default: SemanticKITTI's 19 classes)");
   cmd->add_option("--aliases", flags->aliases, "Alias table JSON extending the built-in one (see artemis ground)");
   cmd->add_flag("--semantic-distribution", flags->params.semantics.write_distribution,

@@ -10,5 +10,8 @@ void addSimCommand(CLI::App& app, int& exit_code);
 void addRunCommand(CLI::App& app, int& exit_code);
 void addEvalCommands(CLI::App& app, int& exit_code);
 void addGroundCommand(CLI::App& app, int& exit_code);
+void addRenderCommand(CLI::App& app, int& exit_code);
+void addExportCommand(CLI::App& app, int& exit_code);
+void addViewCommand(CLI::App& app, int& exit_code);
 
 }  // namespace artemis::cli

@@ -36,6 +36,9 @@ int run(int argc, char** argv) {
   artemis::cli::addRunCommand(app, exit_code);
   artemis::cli::addEvalCommands(app, exit_code);
   artemis::cli::addGroundCommand(app, exit_code);
+  artemis::cli::addRenderCommand(app, exit_code);
+  artemis::cli::addExportCommand(app, exit_code);
+  artemis::cli::addViewCommand(app, exit_code);
 
   try {
     app.parse(argc, argv);

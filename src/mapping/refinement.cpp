@@ -144,7 +144,8 @@ RefinementStats Refinement::refine(const VoxelMap& map, SemanticMesh& mesh, cons
 
   // 1. Culling: blocks, then voxels.
   Stopwatch clock;
-  const std::vector<std::uint32_t> voxels = voxelsInView(map, camera, T_W_C, params_.max_range_m);
+  stats.voxels = voxelsInView(map, camera, T_W_C, params_.max_range_m);
+  const std::vector<std::uint32_t>& voxels = stats.voxels;
   stats.voxels_in_view = voxels.size();
   stats.cull_ms = clock.elapsedMs();
 

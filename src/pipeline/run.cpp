@@ -345,10 +345,11 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
       texture = !held_out;
     }
     const bool refine_semantics = observation.observed && params.mapper.refinement.semantic_refinement;
+    std::optional<mapping::RefinementStats> refined;
     if (view != nullptr && view->hasImage() && (texture || refine_semantics)) {
       Stopwatch refine_clock;
       const mapping::RefinementInput input{view, texture, refine_semantics ? &observation : nullptr, &frame->points_L};
-      const mapping::RefinementStats r = mapper.refine(input, T_W_L);
+      const mapping::RefinementStats& r = refined.emplace(mapper.refine(input, T_W_L));
       report.times.add("refine", refine_clock.elapsedMs());
       report.frames_textured += texture ? 1 : 0;
       report.frames_semantic_refined += refine_semantics ? 1 : 0;
@@ -369,12 +370,19 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
         "ms ({} vertices, {} faces cut)",
         frame->index, stats.points, stats.points_kept, stats.active_voxels, stats.meshed_voxels, stats.insert_ms,
         stats.mesh_ms, stats.constrain_ms, stats.constrained_vertices, stats.faces_cut);
+    if (params.observer) {
+      params.observer({mapper, i + 1, total, frame->index, T_W_L, refined ? &*refined : nullptr, report.times, false});
+    }
     if (progress) progress(i + 1, total);
   }
   if (report.frames == 0) return invalidArgument("no frame could be read; nothing written");
   Stopwatch finish_clock;
   mapper.finish();
   report.finish_ms = finish_clock.elapsedMs();
+  if (params.observer) {
+    params.observer({mapper, total, total, dataset.firstIndex() + total - 1, last_T.value_or(Isometry3d::Identity()),
+                     nullptr, report.times, true});
+  }
   if (const std::size_t refused = mapper.voxels().rejectedPoints(); refused > 0) {
     log::warn("{} points more than 1000 km from the origin were refused (broken poses?)", refused);
   }

@@ -92,6 +92,8 @@ struct RefinementStats {
   double cull_ms = 0.0;
   double depth_ms = 0.0;
   double fuse_ms = 0.0;  // residuals, W, texture and semantic updates
+  // Indices into the map of the voxels in view: those whose vertices may have new colours or classes.
+  std::vector<std::uint32_t> voxels;
 };
 
 // What one view refines: its colours (unless the frame is held out of texturing) and, when the

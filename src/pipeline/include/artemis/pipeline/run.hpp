@@ -42,6 +42,22 @@ struct SemanticRunParams {
   std::string segmenter_settings_json = "{}";  // recorded in semantics.json
 };
 
+// What a run shows an observer (the live viewer) after each frame, on the mapping thread: the
+// mapper may be read, not changed, until the call returns. The mesh's change log holds the voxels
+// this frame re-meshed; `refinement` the voxels stage 2 looked at (their colours and classes may
+// have changed). After the last frame, one more call with `finished` follows the final meshing.
+struct FrameUpdate {
+  const mapping::Mapper& mapper;
+  std::size_t done = 0;  // frames of the range handled so far (mapped or skipped)
+  std::size_t total = 0;
+  std::size_t frame_index = 0;  // the recording's frame number
+  Isometry3d T_W_L = Isometry3d::Identity();
+  const mapping::RefinementStats* refinement = nullptr;  // nullptr: no stage 2 this frame
+  const StageTimes& times;
+  bool finished = false;
+};
+using FrameObserver = std::function<void(const FrameUpdate&)>;
+
 struct RunParams {
   mapping::MapperParams mapper;
   // Scan-to-map registration of every frame before it is mapped. Its prior is the recording's
@@ -59,6 +75,7 @@ struct RunParams {
   // of it, for `artemis eval texture` to render the mesh there.
   bool texture = false;
   int texture_holdout = 0;
+  FrameObserver observer;  // optional
 };
 
 struct RunReport {

@@ -1,0 +1,57 @@
+#include "live.hpp"
+
+#include <vector>
+
+#include "artemis/core/log.hpp"
+
+namespace artemis::viewer {
+
+LivePublisher::LivePublisher(Scene& scene, std::int32_t block_voxels, double interval_s)
+    : scene_(scene), block_voxels_(block_voxels), interval_s_(interval_s) {}
+
+void LivePublisher::onFrame(const pipeline::FrameUpdate& update) {
+  const auto mark = [&](const mapping::VoxelKey& v) {
+    // The voxel's block and those of its neighbours across a block face, edge or corner.
+    for (const int dx : {-1, 1}) {
+      for (const int dy : {-1, 1}) {
+        for (const int dz : {-1, 1}) {
+          dirty_.insert(mapping::coarserKey({v.x + dx, v.y + dy, v.z + dz}, block_voxels_));
+        }
+      }
+    }
+  };
+  for (const mapping::VoxelKey& v : update.mapper.mesh().changes().voxels) mark(v);
+  if (update.refinement != nullptr) {
+    for (const std::uint32_t index : update.refinement->voxels) {
+      dirty_.insert(mapping::coarserKey(update.mapper.voxels().keyAt(index), block_voxels_));
+    }
+  }
+  if (!update.finished) scene_.appendTrajectory(update.T_W_L.translation());
+  if (update.finished || since_publish_.elapsedMs() >= 1000.0 * interval_s_) publish(update);
+}
+
+void LivePublisher::publish(const pipeline::FrameUpdate& update) {
+  Stopwatch clock;
+  const std::vector<BlockKey> keys(dirty_.begin(), dirty_.end());
+  dirty_.clear();
+  auto blocks = liveBlocks(update.mapper.mesh(), keys, block_voxels_);
+  scene_.update(std::move(blocks));
+  scene_.setInfo("status", statusJson(update.times, update.done, update.total, update.frame_index, !update.finished));
+  ++publishes_;
+  log::debug("viewer: published {} blocks in {:.1f} ms", keys.size(), clock.elapsedMs());
+  since_publish_.reset();
+}
+
+nlohmann::json statusJson(const pipeline::StageTimes& times, std::size_t done, std::size_t total,
+                          std::size_t frame_index, bool running) {
+  nlohmann::json stages = nlohmann::json::object();
+  for (const std::string& stage : times.stages()) {
+    const auto& samples = times.samples(stage);
+    if (samples.empty()) continue;
+    const pipeline::StageSummary s = times.summary(stage);
+    stages[stage] = {{"last_ms", samples.back()}, {"median_ms", s.median_ms}, {"p95_ms", s.p95_ms}};
+  }
+  return {{"done", done}, {"total", total}, {"frame", frame_index}, {"running", running}, {"stages", stages}};
+}
+
+}  // namespace artemis::viewer
