@@ -6,6 +6,13 @@ install(TARGETS ${artemis_modules} EXPORT artemisTargets
         LIBRARY DESTINATION ${CMAKE_INSTALL_LIBDIR}
         RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(TARGETS artemis RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+# The viewer's page and three.js (from viewer/node_modules, installed by scripts/install-deps.sh),
+# where the installed program looks for them: <prefix>/share/artemis/viewer.
+install(FILES viewer/index.html viewer/app.js viewer/style.css DESTINATION ${CMAKE_INSTALL_DATADIR}/artemis/viewer)
+install(DIRECTORY viewer/node_modules/three/build
+        DESTINATION ${CMAKE_INSTALL_DATADIR}/artemis/viewer/node_modules/three OPTIONAL)
+install(DIRECTORY viewer/node_modules/three/examples/jsm
+        DESTINATION ${CMAKE_INSTALL_DATADIR}/artemis/viewer/node_modules/three/examples OPTIONAL)
 install(EXPORT artemisTargets NAMESPACE artemis:: DESTINATION ${CMAKE_INSTALL_LIBDIR}/cmake/artemis)
 configure_package_config_file(cmake/artemisConfig.cmake.in
   ${PROJECT_BINARY_DIR}/artemisConfig.cmake

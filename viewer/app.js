@@ -173,7 +173,7 @@ function fit() {
   const centre = box.getCenter(new THREE.Vector3());
   const size = Math.max(10, box.getSize(new THREE.Vector3()).length());
   orbit.target.copy(centre);
-  camera.position.set(centre.x - 0.3 * size, centre.y - 0.45 * size, centre.z + 0.35 * size);
+  camera.position.set(centre.x - 0.18 * size, centre.y - 0.3 * size, centre.z + 0.22 * size);
   camera.near = Math.max(0.05, size / 5000);
   camera.far = 20 * size;
   camera.updateProjectionMatrix();

@@ -91,9 +91,10 @@ int runExport(const ExportFlags& flags) {
 
 void addExportCommand(CLI::App& app, int& exit_code) {
   auto flags = std::make_shared<ExportFlags>();
-  auto* cmd = app.add_subcommand("export",
-                                 "A run's mesh for other tools: GLB (vertex colours, _CLASS and _CONFIDENCE attributes), "
-                                 "PLY (class_id, confidence, colours) or OBJ (colours)");
+  auto* cmd =
+      app.add_subcommand("export",
+                         "A run's mesh for other tools: GLB (vertex colours, _CLASS and _CONFIDENCE attributes), "
+                         "PLY (class_id, confidence, colours) or OBJ (colours)");
   cmd->add_option("RUN", flags->run, "Run folder of artemis run (its mesh.ply and semantics.json), or a mesh PLY")
       ->required();
   cmd->add_option("--format,-f", flags->format, "glb, ply or obj")

@@ -128,13 +128,15 @@ Result<render::View> datasetView(const RenderFlags& flags) {
 
 int runRender(const RenderFlags& flags) {
   const bool free_camera = !flags.camera.empty();
-  if (free_camera == (flags.pose >= 0)) return fail(invalidArgument("give either --pose N or --camera ex,ey,ez,tx,ty,tz"));
+  if (free_camera == (flags.pose >= 0))
+    return fail(invalidArgument("give either --pose N or --camera ex,ey,ez,tx,ty,tz"));
   auto mesh = readRunMesh(flags.run);
   if (!mesh) return fail(mesh.status());
   auto view = free_camera ? freeView(flags) : datasetView(flags);
   if (!view) return fail(view.status());
 
-  nlohmann::json report = {{"output", flags.output}, {"width", view->camera.width_px}, {"height", view->camera.height_px}};
+  nlohmann::json report = {
+      {"output", flags.output}, {"width", view->camera.width_px}, {"height", view->camera.height_px}};
   std::vector<std::uint8_t> classes;  // highlighted, in the query's order
   if (!flags.query.empty()) {
     if (mesh->class_id.empty()) {
@@ -218,11 +220,13 @@ void addRenderCommand(CLI::App& app, int& exit_code) {
       "render",
       "A picture of a run's mesh (CPU, headless): textured when the run was, with the surfaces of the classes a "
       "query names highlighted, from a dataset camera at a frame's pose or from a free camera.");
-  cmd->add_option("RUN", flags->run, "Run folder of artemis run (mesh.ply, semantics.json, trajectory.txt, "
-                                     "config.json), or a mesh PLY (with --camera)")
+  cmd->add_option("RUN", flags->run,
+                  "Run folder of artemis run (mesh.ply, semantics.json, trajectory.txt, "
+                  "config.json), or a mesh PLY (with --camera)")
       ->required();
   cmd->add_option("--query,-q", flags->query, "Highlight the classes this names, e.g. \"cars and people\"");
-  cmd->add_option("--pose", flags->pose, "Frame number of the recording: its camera (model and pose) takes the picture");
+  cmd->add_option("--pose", flags->pose,
+                  "Frame number of the recording: its camera (model and pose) takes the picture");
   cmd->add_option("--camera", flags->camera, "Free camera: eye and target in world coordinates, ex,ey,ez,tx,ty,tz");
   cmd->add_option("--width", flags->width, "Free camera: picture width in pixels")->capture_default_str();
   cmd->add_option("--height", flags->height, "Free camera: picture height in pixels")->capture_default_str();

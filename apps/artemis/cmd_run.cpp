@@ -273,8 +273,8 @@ int runRun(RunFlags flags) {
     scene.setInfo("title", fs::path(flags.out).lexically_normal().filename().string());
     scene.setInfo("textured", flags.params.texture);
     scene.setInfo("vocabulary", viewer::vocabularyJson(vocabulary));
-    scene.setInfo("classes", viewer::classesJson(vocabulary, brush != nullptr ? brush->prompts()
-                                                                             : std::vector<semantics::ClassId>{}));
+    scene.setInfo("classes", viewer::classesJson(
+                                 vocabulary, brush != nullptr ? brush->prompts() : std::vector<semantics::ClassId>{}));
     scene.setInfo("status", viewer::statusJson({}, 0, (*dataset)->size(), (*dataset)->firstIndex(), true));
     auto query = viewer::makeQueryFn(vocabulary, {}, brush);
     if (!query) {
@@ -480,8 +480,9 @@ void addRunCommand(CLI::App& app, int& exit_code) {
   cmd->add_option("--seed", flags->seed, "sim: seed of the segmenter's noise")->capture_default_str();
   cmd->add_option("--masks", flags->masks, "maskfile: folder of NNNNNN.png + NNNNNN.json per frame (see README)");
   cmd->add_option("--sim-gt", flags->sim_gt, "sim: the simulator's gt/ folder (default: found beside the recording)");
-  cmd->add_flag("--viewer", flags->viewer,
-                "Serve the live browser viewer while mapping (http://127.0.0.1:8080/ unless --viewer-port/--viewer-host)");
+  cmd->add_flag(
+      "--viewer", flags->viewer,
+      "Serve the live browser viewer while mapping (http://127.0.0.1:8080/ unless --viewer-port/--viewer-host)");
   addViewerFlags(*cmd, flags->viewer_flags, "viewer-");
   cmd->add_option("--viewer-linger", flags->viewer_linger_s,
                   "Viewer: seconds to keep serving the finished map (default: until Ctrl-C)");

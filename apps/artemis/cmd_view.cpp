@@ -85,10 +85,12 @@ int runView(const ViewFlags& flags) {
 
 void addViewCommand(CLI::App& app, int& exit_code) {
   auto flags = std::make_shared<ViewFlags>();
-  auto* cmd = app.add_subcommand("view",
-                                 "Browser viewer of a run: the textured mesh, class colours, the trajectory, and a query box "
-                                 "that highlights the classes it names. Serves http://127.0.0.1:PORT/ until Ctrl-C.");
-  cmd->add_option("RUN", flags->run, "Run folder of artemis run (mesh.ply, semantics.json, trajectory.txt), or a mesh PLY")
+  auto* cmd =
+      app.add_subcommand("view",
+                         "Browser viewer of a run: the textured mesh, class colours, the trajectory, and a query box "
+                         "that highlights the classes it names. Serves http://127.0.0.1:PORT/ until Ctrl-C.");
+  cmd->add_option("RUN", flags->run,
+                  "Run folder of artemis run (mesh.ply, semantics.json, trajectory.txt), or a mesh PLY")
       ->required();
   addViewerFlags(*cmd, flags->viewer, "");
   cmd->add_option("--exit-after", flags->exit_after_s, "Stop serving after this many seconds (default: at Ctrl-C)");

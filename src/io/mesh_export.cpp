@@ -70,7 +70,8 @@ Status validate(const ExportMesh& mesh) {
   }
   for (std::size_t f = 0; f < mesh.triangles.size(); ++f) {
     for (const std::uint32_t v : mesh.triangles[f]) {
-      if (v >= n) return invalidArgument(fmt::format("face {} has vertex index {}, but there are {} vertices", f, v, n));
+      if (v >= n)
+        return invalidArgument(fmt::format("face {} has vertex index {}, but there are {} vertices", f, v, n));
     }
   }
   return Status::ok();
@@ -132,10 +133,10 @@ Status writeGlb(const std::filesystem::path& path, const ExportMesh& mesh, const
     std::vector<std::uint32_t> indices;
     indices.reserve(3 * mesh.triangles.size());
     for (const auto& t : mesh.triangles) indices.insert(indices.end(), t.begin(), t.end());
-    const int view = addView(model, indices.data(), indices.size() * sizeof(std::uint32_t),
-                             TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
-    primitive.indices = addAccessor(model, view, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR,
-                                    indices.size());
+    const int view =
+        addView(model, indices.data(), indices.size() * sizeof(std::uint32_t), TINYGLTF_TARGET_ELEMENT_ARRAY_BUFFER);
+    primitive.indices =
+        addAccessor(model, view, TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT, TINYGLTF_TYPE_SCALAR, indices.size());
   }
   tinygltf::Material material;
   material.name = "vertex colours";
@@ -180,7 +181,8 @@ Status writeObj(const std::filesystem::path& path, const ExportMesh& mesh) {
                      c[1] / 255.0, c[2] / 255.0);
     }
   }
-  for (const auto& t : mesh.triangles) fmt::format_to(std::back_inserter(text), "f {} {} {}\n", t[0] + 1, t[1] + 1, t[2] + 1);
+  for (const auto& t : mesh.triangles)
+    fmt::format_to(std::back_inserter(text), "f {} {} {}\n", t[0] + 1, t[1] + 1, t[2] + 1);
   return writeBytes(path, text);
 }
 

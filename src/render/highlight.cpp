@@ -17,11 +17,15 @@ constexpr std::array<Rgb8, kHighlightColours> kPalette = {{
     {160, 80, 255},  // violet
 }};
 
-std::uint8_t toByte(float x) { return static_cast<std::uint8_t>(std::lround(std::clamp(x, 0.0f, 1.0f) * 255.0f)); }
+std::uint8_t toByte(float x) {
+  return static_cast<std::uint8_t>(std::lround(std::clamp(x, 0.0f, 1.0f) * 255.0f));
+}
 
 }  // namespace
 
-Rgb8 highlightColour(std::size_t k) { return kPalette[k % kHighlightColours]; }
+Rgb8 highlightColour(std::size_t k) {
+  return kPalette[k % kHighlightColours];
+}
 
 std::vector<std::uint8_t> vertexHighlight(std::span<const std::uint8_t> vertex_class,
                                           std::span<const std::uint8_t> classes) {
@@ -53,17 +57,17 @@ ShadedPicture shade(const MeshArrays& mesh, const Picture& picture, const View& 
     const auto& tri = mesh.triangles[f];
     const std::size_t n = vertex_highlight.size();
     if (tri[0] >= n || tri[1] >= n || tri[2] >= n) return 0;
-    const std::uint8_t h[3] = {vertex_highlight[tri[0]], vertex_highlight[tri[1]], vertex_highlight[tri[2]]};
-    if (h[0] == h[1] && h[1] == h[2]) return h[0];
+    const std::uint8_t hv[3] = {vertex_highlight[tri[0]], vertex_highlight[tri[1]], vertex_highlight[tri[2]]};
+    if (hv[0] == hv[1] && hv[1] == hv[2]) return hv[0];
     Eigen::Vector2f p[3];
     for (int c = 0; c < 3; ++c) p[c] = project(R * mesh.positions[tri[static_cast<std::size_t>(c)]] + t);
     const Eigen::Vector2f q(static_cast<float>(u), static_cast<float>(v));
     const auto cross = [](const Eigen::Vector2f& a, const Eigen::Vector2f& b) { return a.x() * b.y() - a.y() * b.x(); };
     // Unnormalised barycentric weights: the area opposite each corner (same sign inside the face).
-    const float w[3] = {std::abs(cross(p[1] - q, p[2] - q)), std::abs(cross(p[2] - q, p[0] - q)),
-                        std::abs(cross(p[0] - q, p[1] - q))};
-    const int best = w[0] >= w[1] ? (w[0] >= w[2] ? 0 : 2) : (w[1] >= w[2] ? 1 : 2);
-    return h[best];
+    const float weight[3] = {std::abs(cross(p[1] - q, p[2] - q)), std::abs(cross(p[2] - q, p[0] - q)),
+                             std::abs(cross(p[0] - q, p[1] - q))};
+    const int best = weight[0] >= weight[1] ? (weight[0] >= weight[2] ? 0 : 2) : (weight[1] >= weight[2] ? 1 : 2);
+    return hv[best];
   };
   for (int v = 0; v < h; ++v) {
     for (int u = 0; u < w; ++u) {
@@ -77,9 +81,9 @@ ShadedPicture shade(const MeshArrays& mesh, const Picture& picture, const View& 
       if (textured) {
         colour = {picture.colour.at(u, v, 0), picture.colour.at(u, v, 1), picture.colour.at(u, v, 2)};
       } else {
-        const auto& t = mesh.triangles[f];
-        const Eigen::Vector3f& a = mesh.positions[t[0]];
-        const Eigen::Vector3f n = (mesh.positions[t[1]] - a).cross(mesh.positions[t[2]] - a);
+        const auto& corners = mesh.triangles[f];
+        const Eigen::Vector3f& a = mesh.positions[corners[0]];
+        const Eigen::Vector3f n = (mesh.positions[corners[1]] - a).cross(mesh.positions[corners[2]] - a);
         const Eigen::Vector3f ray = a - eye;
         const float denom = n.norm() * ray.norm();
         const float cosine = denom > 0.0f ? std::abs(n.dot(ray)) / denom : 1.0f;

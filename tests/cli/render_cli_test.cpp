@@ -26,8 +26,8 @@ class RenderCli : public ::testing::Test {
     tmp_ = new test::TempDir;
     const auto sim = runCli("sim --preset demo --frames 12 --out " + (*tmp_ / "sim").string());
     ASSERT_EQ(sim.exit_code, 0) << sim.err;
-    const auto run = runCli("run " + (*tmp_ / "sim").string() + " --query car --segmenter sim --out " +
-                            (*tmp_ / "run").string());
+    const auto run =
+        runCli("run " + (*tmp_ / "sim").string() + " --query car --segmenter sim --out " + (*tmp_ / "run").string());
     ASSERT_EQ(run.exit_code, 0) << run.err;
   }
   static void TearDownTestSuite() {

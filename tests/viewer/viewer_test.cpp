@@ -52,7 +52,8 @@ Decoded decode(const std::string& bytes) {
     b.xyz.resize(3 * n);
     std::memcpy(b.xyz.data(), bytes.data() + at, 12 * n);
     at += 12 * n;
-    b.rgb.assign(bytes.begin() + static_cast<std::ptrdiff_t>(at), bytes.begin() + static_cast<std::ptrdiff_t>(at + 3 * n));
+    b.rgb.assign(bytes.begin() + static_cast<std::ptrdiff_t>(at),
+                 bytes.begin() + static_cast<std::ptrdiff_t>(at + 3 * n));
     at += 3 * n;
     b.cls.assign(bytes.begin() + static_cast<std::ptrdiff_t>(at), bytes.begin() + static_cast<std::ptrdiff_t>(at + n));
     at += n;

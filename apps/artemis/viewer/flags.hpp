@@ -31,8 +31,9 @@ inline void addViewerFlags(CLI::App& cmd, ViewerFlags& flags, const std::string&
   cmd.add_option("--" + prefix + "host", flags.host,
                  "Viewer: address to listen on; other than 127.0.0.1 exposes the map to the network")
       ->capture_default_str();
-  cmd.add_option("--" + prefix + "assets", flags.assets,
-                 "Viewer: folder of its page and three.js (default: $ARTEMIS_VIEWER_DIR, else the source tree's viewer/)");
+  cmd.add_option(
+      "--" + prefix + "assets", flags.assets,
+      "Viewer: folder of its page and three.js (default: $ARTEMIS_VIEWER_DIR, else the source tree's viewer/)");
   if (prefix.empty()) {
     cmd.add_option("--block-size", flags.block_m, "Viewer: edge of the mesh blocks sent to the page (m)")
         ->capture_default_str()

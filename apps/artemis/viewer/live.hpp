@@ -16,7 +16,7 @@ namespace artemis::viewer {
 class LivePublisher {
  public:
   // `block_voxels`: a block is block_voxels^3 of the mapper's voxels.
-  LivePublisher(Scene& scene, std::int32_t block_voxels, double interval_s = 0.25);
+  LivePublisher(Scene& scene, std::int32_t block_voxels, double interval_s = 0.2);
   void onFrame(const pipeline::FrameUpdate& update);
   [[nodiscard]] std::size_t publishes() const { return publishes_; }
 

@@ -116,7 +116,8 @@ struct Server::Impl {
       }
       return httplib::Server::HandlerResponse::Unhandled;
     });
-    http.Get("/", [this](const httplib::Request&, httplib::Response& res) { serveFile(params.assets, "index.html", res); });
+    http.Get("/",
+             [this](const httplib::Request&, httplib::Response& res) { serveFile(params.assets, "index.html", res); });
     http.Get(R"(/(app\.js|style\.css|index\.html))", [this](const httplib::Request& req, httplib::Response& res) {
       serveFile(params.assets, req.matches[1].str(), res);
     });
@@ -175,14 +176,16 @@ struct Server::Impl {
 Server::Server(const Scene& scene, ServerParams params, QueryFn query)
     : impl_(new Impl{scene, std::move(params), std::move(query), {}, {}, 0}) {}
 
-Server::~Server() { stop(); }
+Server::~Server() {
+  stop();
+}
 
 Result<int> Server::start() {
   const fs::path& assets = impl_->params.assets;
   std::error_code ec;
   if (!fs::exists(assets / "index.html", ec)) {
-    return notFound(fmt::format("{}: no index.html: the viewer's assets are not there (set ARTEMIS_VIEWER_DIR)",
-                                assets.string()));
+    return notFound(
+        fmt::format("{}: no index.html: the viewer's assets are not there (set ARTEMIS_VIEWER_DIR)", assets.string()));
   }
   if (!fs::exists(assets / "node_modules" / "three" / "build" / "three.module.js", ec)) {
     return notFound(fmt::format("{}: three.js is not installed; run scripts/install-deps.sh (npm ci --prefix {})",
@@ -196,7 +199,8 @@ Result<int> Server::start() {
     impl_->port = impl_->http.bind_to_port(p.host, p.port) ? p.port : -1;
   }
   if (impl_->port <= 0) {
-    return ioError(fmt::format("viewer: cannot listen on {}:{} (in use? try --port 0 for any free port)", p.host, p.port));
+    return ioError(
+        fmt::format("viewer: cannot listen on {}:{} (in use? try --port 0 for any free port)", p.host, p.port));
   }
   impl_->thread = std::thread([this] { impl_->http.listen_after_bind(); });
   return impl_->port;

@@ -21,9 +21,9 @@ namespace artemis::viewer {
 
 struct ServerParams {
   std::string host = "127.0.0.1";
-  int port = 8080;                 // 0: any free port
-  std::filesystem::path assets;    // the viewer folder: index.html, app.js, style.css, node_modules/three
-  std::filesystem::path run_dir;   // served under /run/ (empty: nothing)
+  int port = 8080;                // 0: any free port
+  std::filesystem::path assets;   // the viewer folder: index.html, app.js, style.css, node_modules/three
+  std::filesystem::path run_dir;  // served under /run/ (empty: nothing)
   std::size_t max_query_bytes = 1000;
 };
 

@@ -18,7 +18,9 @@ namespace {
 
 std::atomic<bool> g_interrupted{false};
 
-extern "C" void onSignal(int /*signal*/) { g_interrupted = true; }
+extern "C" void onSignal(int /*signal*/) {
+  g_interrupted = true;
+}
 
 }  // namespace
 
@@ -42,6 +44,8 @@ Result<QueryFn> makeQueryFn(semantics::Vocabulary vocabulary, std::vector<semant
   if (!grounder) return grounder.status();
   // WordNet keeps global state: one query at a time.
   auto shared = std::make_shared<semantics::QueryGrounder>(std::move(*grounder));
+  // WordNet loads its files on the first lookup (a second or more): do it now, not on the user's query.
+  (void)shared->ground("car");
   auto mutex = std::make_shared<std::mutex>();
   return QueryFn([shared, mutex, labelled, brush](const std::string& query) -> Result<nlohmann::json> {
     std::lock_guard lock(*mutex);
@@ -80,10 +84,8 @@ Result<QueryFn> makeQueryFn(semantics::Vocabulary vocabulary, std::vector<semant
         }
       }
     }
-    return nlohmann::json{{"query", grounding->query},
-                          {"matched", matched},
-                          {"unmatched", grounding->unmatched},
-                          {"message", message}};
+    return nlohmann::json{
+        {"query", grounding->query}, {"matched", matched}, {"unmatched", grounding->unmatched}, {"message", message}};
   });
 }
 
@@ -96,8 +98,7 @@ void waitForInterrupt(double seconds) {
   sigaction(SIGTERM, &action, nullptr);
   const auto start = std::chrono::steady_clock::now();
   while (!g_interrupted) {
-    if (seconds >= 0 &&
-        std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() >= seconds) {
+    if (seconds >= 0 && std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() >= seconds) {
       break;
     }
     std::this_thread::sleep_for(std::chrono::milliseconds(50));

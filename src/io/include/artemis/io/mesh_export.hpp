@@ -32,8 +32,8 @@ struct ExportMesh {
   std::span<const Eigen::Vector3f> positions;
   std::span<const std::array<std::uint32_t, 3>> triangles;
   std::span<const std::array<std::uint8_t, 3>> rgb;  // sRGB per vertex; empty: none
-  std::span<const std::uint8_t> class_id;             // per vertex; empty: none
-  std::span<const float> confidence;                  // per vertex; empty: none
+  std::span<const std::uint8_t> class_id;            // per vertex; empty: none
+  std::span<const float> confidence;                 // per vertex; empty: none
 };
 
 // Checks sizes (per-vertex arrays empty or one per vertex), indices and finite positions.

@@ -101,8 +101,8 @@ struct RunReport {
   std::size_t vertices_labelled = 0;         // mesh vertices with a class
   std::string segmented_camera;              // the camera whose images were segmented
   std::vector<std::size_t> held_out_frames;  // recording indices left out of texturing
-  std::size_t frames_textured = 0;          // stage 2 updated colours from the frame's image
-  std::size_t frames_semantic_refined = 0;  // stage 2 updated classes from the frame's masks
+  std::size_t frames_textured = 0;           // stage 2 updated colours from the frame's image
+  std::size_t frames_semantic_refined = 0;   // stage 2 updated classes from the frame's masks
 };
 
 using ProgressFn = std::function<void(std::size_t done, std::size_t total)>;
