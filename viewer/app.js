@@ -27,6 +27,11 @@ const state = {
   updates: 0,
 };
 
+// Frames are drawn when something changed (camera, mesh, colours), not 60 times a second: a
+// large map then costs nothing while it is only looked at.
+let needsRender = true;
+function requestRender() { needsRender = true; }
+
 // --- three.js set-up -------------------------------------------------------------------------
 const container = document.getElementById('view');
 const renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
@@ -56,15 +61,24 @@ function resize() {
   renderer.setSize(w, h);
   camera.aspect = w / Math.max(1, h);
   camera.updateProjectionMatrix();
+  needsRender = true;
 }
 window.addEventListener('resize', resize);
 resize();
 
+orbit.addEventListener('change', requestRender);
 function animate() {
   const dt = clock.getDelta();
-  if (fly.enabled) fly.update(dt);
-  else orbit.update();
-  renderer.render(scene, camera);
+  if (fly.enabled) {
+    fly.update(dt);
+    needsRender = true;
+  } else {
+    orbit.update();
+  }
+  if (needsRender) {
+    needsRender = false;
+    renderer.render(scene, camera);
+  }
   requestAnimationFrame(animate);
 }
 requestAnimationFrame(animate);
@@ -95,6 +109,7 @@ function colourBlock(b) {
     out[k] = r; out[k + 1] = g; out[k + 2] = bl;
   }
   b.mesh.geometry.getAttribute('color').needsUpdate = true;
+  requestRender();
 }
 
 function recolourAll() {
@@ -147,6 +162,7 @@ function applyBlocks(buffer) {
   }
   state.version = version;
   state.updates += 1;
+  requestRender();
   if (!state.fitted && state.blocks.size > 0) fit();
 }
 
@@ -180,6 +196,7 @@ function fit() {
   camera.lookAt(centre);
   fly.movementSpeed = Math.max(2, size / 20);
   state.fitted = true;
+  requestRender();
 }
 
 // --- panel -----------------------------------------------------------------------------------
@@ -236,6 +253,7 @@ function showInfo(info) {
     trajectory.geometry.setAttribute('position', new THREE.BufferAttribute(new Float32Array(traj.flat()), 3));
     trajectory.geometry.computeBoundingSphere();
     state.trajectoryLength = traj.length;
+    requestRender();
   }
   if (state.mode === 'classes') showLegend();
 }
@@ -332,7 +350,10 @@ for (const r of document.querySelectorAll('input[name=nav]')) {
   });
 }
 el('fit').addEventListener('click', fit);
-el('show-trajectory').addEventListener('change', (e) => { trajectory.visible = e.target.checked; });
+el('show-trajectory').addEventListener('change', (e) => {
+  trajectory.visible = e.target.checked;
+  requestRender();
+});
 
 // For tests and scripts: the state, and world points projected to page pixels.
 window.artemis = {

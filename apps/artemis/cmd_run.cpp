@@ -270,7 +270,8 @@ int runRun(RunFlags flags) {
     semantics::ActiveBrush* brush = *semantic ? &(*semantic)->brush : nullptr;
     const semantics::Vocabulary& vocabulary =
         *semantic ? (*semantic)->vocabulary : semantics::Vocabulary::semanticKitti();
-    scene.setInfo("title", fs::path(flags.out).lexically_normal().filename().string());
+    const fs::path out_dir = fs::absolute(flags.out).lexically_normal();
+    scene.setInfo("title", (out_dir.has_filename() ? out_dir : out_dir.parent_path()).filename().string());
     scene.setInfo("textured", flags.params.texture);
     scene.setInfo("vocabulary", viewer::vocabularyJson(vocabulary));
     scene.setInfo("classes", viewer::classesJson(

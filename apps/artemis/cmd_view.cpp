@@ -40,7 +40,8 @@ int runView(const ViewFlags& flags) {
   const fs::path run_dir = folder ? fs::path(flags.run) : fs::path(flags.run).parent_path();
   viewer::Scene scene;
   scene.update(viewer::meshBlocks(mesh->positions, mesh->triangles, mesh->rgb, mesh->class_id, flags.viewer.block_m));
-  scene.setInfo("title", fs::absolute(flags.run).lexically_normal().filename().string());
+  const fs::path absolute = fs::absolute(flags.run).lexically_normal();
+  scene.setInfo("title", (absolute.has_filename() ? absolute : absolute.parent_path()).filename().string());
   scene.setInfo("textured", !mesh->rgb.empty());
   scene.setInfo("classes", viewer::classesJson(mesh->vocabulary, mesh->prompted));
   scene.setInfo("vocabulary", viewer::vocabularyJson(mesh->vocabulary));

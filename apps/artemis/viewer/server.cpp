@@ -4,6 +4,7 @@
 #include <fmt/format.h>
 #include <httplib.h>
 
+#include <chrono>
 #include <cstdlib>
 #include <thread>
 
@@ -203,6 +204,8 @@ Result<int> Server::start() {
         fmt::format("viewer: cannot listen on {}:{} (in use? try --port 0 for any free port)", p.host, p.port));
   }
   impl_->thread = std::thread([this] { impl_->http.listen_after_bind(); });
+  // stop() only reaches a server that is listening: wait until it is (at most a second).
+  for (int i = 0; i < 1000 && !impl_->http.is_running(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(1));
   return impl_->port;
 }
 
