@@ -50,7 +50,7 @@ Decoded decode(const std::string& bytes) {
     const std::uint32_t m = u32();
     EXPECT_EQ(at % 4, 0u);
     b.xyz.resize(3 * n);
-    std::memcpy(b.xyz.data(), bytes.data() + at, 12 * n);
+    if (n > 0) std::memcpy(b.xyz.data(), bytes.data() + at, 12 * n);
     at += 12 * n;
     b.rgb.assign(bytes.begin() + static_cast<std::ptrdiff_t>(at),
                  bytes.begin() + static_cast<std::ptrdiff_t>(at + 3 * n));
@@ -59,7 +59,7 @@ Decoded decode(const std::string& bytes) {
     at += n;
     EXPECT_EQ(at % 4, 0u);
     b.idx.resize(m);
-    std::memcpy(b.idx.data(), bytes.data() + at, 4 * m);
+    if (m > 0) std::memcpy(b.idx.data(), bytes.data() + at, 4 * m);
     at += 4 * m;
     d.blocks.push_back(std::move(b));
   }

@@ -21,6 +21,7 @@ void put(std::string& out, const T& value) {
 
 template <typename T>
 void putArray(std::string& out, const std::vector<T>& values) {
+  if (values.empty()) return;  // data() may be null
   out.append(reinterpret_cast<const char*>(values.data()), values.size() * sizeof(T));
 }
 
