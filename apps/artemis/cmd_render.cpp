@@ -15,7 +15,6 @@
 #include "artemis/core/log.hpp"
 #include "artemis/core/timer.hpp"
 #include "artemis/datasets/dataset.hpp"
-#include "artemis/datasets/pose_file.hpp"
 #include "artemis/io/png.hpp"
 #include "artemis/render/highlight.hpp"
 #include "artemis/render/rasterizer.hpp"
@@ -94,35 +93,21 @@ Result<render::View> freeView(const RenderFlags& flags) {
 // The recording's camera at frame `pose` of the run (its trajectory and the camera model of the
 // recording in config.json, or --dataset).
 Result<render::View> datasetView(const RenderFlags& flags) {
-  const fs::path run(flags.run);
-  auto recording = readRunRecording(run / "config.json");
-  if (!recording) return recording.status();
-  auto trajectory = datasets::readPoseFile(run / "trajectory.txt");
-  if (!trajectory) return trajectory.status();
-  datasets::DatasetOptions options;
-  options.frames = recording->frames;
-  options.load_images = false;
-  if (!recording->sequence.empty()) options.sequence = recording->sequence;
-  const std::string path = flags.dataset.empty() ? recording->path : flags.dataset;
-  auto dataset = datasets::openDataset(path, datasets::DatasetFormat::kAuto, options);
-  if (!dataset) return dataset.status();
-  const datasets::Dataset& d = **dataset;
+  auto opened = openRunDataset(flags.run, flags.dataset, /*load_images=*/false);
+  if (!opened) return opened.status();
+  const datasets::Dataset& d = *opened->dataset;
   const auto first = static_cast<long long>(d.firstIndex());
   if (flags.pose < first || flags.pose >= first + static_cast<long long>(d.size())) {
     return invalidArgument(fmt::format("--pose {}: the run mapped frames {}..{} of {}", flags.pose, first,
                                        first + static_cast<long long>(d.size()) - 1, d.root().string()));
   }
   const auto i = static_cast<std::size_t>(flags.pose - first);
-  if (trajectory->size() != d.size()) {
-    return invalidArgument(fmt::format("{}: {} poses for {} frames of {}", (run / "trajectory.txt").string(),
-                                       trajectory->size(), d.size(), d.root().string()));
-  }
   auto frame = d.frame(i);
   if (!frame) return frame.status();
   if (frame->cameras.empty()) return notFound(fmt::format("{}: frame {} has no camera", d.root().string(), flags.pose));
   render::View view;
   view.camera = frame->cameras.front().camera;
-  view.T_W_C = (*trajectory)[i] * frame->cameras.front().T_L_C;
+  view.T_W_C = opened->trajectory[i] * frame->cameras.front().T_L_C;
   return view;
 }
 

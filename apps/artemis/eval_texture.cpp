@@ -14,7 +14,6 @@
 #include "artemis/core/colour.hpp"
 #include "artemis/core/log.hpp"
 #include "artemis/datasets/dataset.hpp"
-#include "artemis/datasets/pose_file.hpp"
 #include "artemis/eval/geometry.hpp"
 #include "artemis/eval/texture.hpp"
 #include "artemis/io/file.hpp"
@@ -118,29 +117,16 @@ int fail(const Status& status) {
 
 int runTextureEval(const TextureEvalFlags& flags) {
   const fs::path run(flags.run);
-  auto recording = readRunRecording(run / "config.json");
-  if (!recording) return fail(recording.status());
-  const int holdout = flags.holdout > 0 ? flags.holdout : recording->texture_holdout;
+  auto opened = openRunDataset(run, flags.dataset, /*load_images=*/true);
+  if (!opened) return fail(opened.status());
+  const int holdout = flags.holdout > 0 ? flags.holdout : opened->recording.texture_holdout;
   if (holdout <= 0) {
     return fail(invalidArgument(fmt::format(
         "{}: the run held no image out of texturing; run with --texture-holdout 5 (or give --holdout)", flags.run)));
   }
-  auto trajectory = datasets::readPoseFile(run / "trajectory.txt");
-  if (!trajectory) return fail(trajectory.status());
   auto mesh = readColouredMesh(run / "mesh.ply");
   if (!mesh) return fail(mesh.status());
-  datasets::DatasetOptions options;
-  options.frames = recording->frames;
-  options.load_images = true;
-  if (!recording->sequence.empty()) options.sequence = recording->sequence;
-  const std::string path = flags.dataset.empty() ? recording->path : flags.dataset;
-  auto dataset = datasets::openDataset(path, datasets::DatasetFormat::kAuto, options);
-  if (!dataset) return fail(dataset.status());
-  const datasets::Dataset& d = **dataset;
-  if (trajectory->size() != d.size()) {
-    return fail(invalidArgument(fmt::format("{}: {} poses for {} frames of {}", (run / "trajectory.txt").string(),
-                                            trajectory->size(), d.size(), d.root().string())));
-  }
+  const datasets::Dataset& d = *opened->dataset;
   if (!flags.pictures.empty()) fs::create_directories(flags.pictures);
 
   Tally mesh_tally, splat_tally;
@@ -160,7 +146,7 @@ int runTextureEval(const TextureEvalFlags& flags) {
     }
     render::View view;
     view.camera = camera->camera;
-    view.T_W_C = (*trajectory)[i] * camera->T_L_C;
+    view.T_W_C = opened->trajectory[i] * camera->T_L_C;
     const Encoded rendered =
         encode(render::rasterize({mesh->arrays.vertices, mesh->arrays.triangles, mesh->colours}, view), camera->image);
     const Encoded splats =
@@ -184,7 +170,7 @@ int runTextureEval(const TextureEvalFlags& flags) {
     progress.update(i + 1, d.size());
   }
   progress.finish();
-  if (mesh_tally.views == 0) return fail(notFound(fmt::format("{}: no held-out view could be rendered", path)));
+  if (mesh_tally.views == 0) return fail(notFound(fmt::format("{}: no held-out view could be rendered", d.root().string())));
   const Json mj = mesh_tally.json();
   const Json sj = splat_tally.json();
   fmt::print("{} held-out views (every {}th frame) of {}\n", mesh_tally.views, holdout, d.root().string());

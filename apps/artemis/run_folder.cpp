@@ -3,7 +3,9 @@
 #include <fmt/format.h>
 
 #include <fstream>
+
 #include <sstream>
+#include "artemis/datasets/pose_file.hpp"
 
 namespace artemis::cli {
 
@@ -54,6 +56,25 @@ Result<RunRecording> readRunRecording(const fs::path& path) {
     out.texture_holdout = (*j)["texture"]["holdout"].get<int>();
   }
   return out;
+}
+
+Result<RunDataset> openRunDataset(const fs::path& run, const std::string& dataset_override, bool load_images) {
+  auto recording = readRunRecording(run / "config.json");
+  if (!recording) return recording.status();
+  auto trajectory = datasets::readPoseFile(run / "trajectory.txt");
+  if (!trajectory) return trajectory.status();
+  datasets::DatasetOptions options;
+  options.frames = recording->frames;
+  options.load_images = load_images;
+  if (!recording->sequence.empty()) options.sequence = recording->sequence;
+  const std::string path = dataset_override.empty() ? recording->path : dataset_override;
+  auto dataset = datasets::openDataset(path, datasets::DatasetFormat::kAuto, options);
+  if (!dataset) return dataset.status();
+  if (trajectory->size() != (*dataset)->size()) {
+    return invalidArgument(fmt::format("{}: {} poses for {} frames of {}", (run / "trajectory.txt").string(),
+                                       trajectory->size(), (*dataset)->size(), (*dataset)->root().string()));
+  }
+  return RunDataset{std::move(*recording), std::move(*dataset), std::move(*trajectory)};
 }
 
 }  // namespace artemis::cli

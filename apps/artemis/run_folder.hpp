@@ -3,8 +3,10 @@
 // recording settings in config.json.
 
 #include <filesystem>
+#include <memory>
 #include <nlohmann/json.hpp>
 #include <string>
+#include <vector>
 
 #include "artemis/core/status.hpp"
 #include "artemis/datasets/dataset.hpp"
@@ -23,5 +25,15 @@ struct RunRecording {
   int texture_holdout = 0;
 };
 Result<RunRecording> readRunRecording(const std::filesystem::path& config_json);
+
+// The recording a run read (config.json's, or `dataset_override`), over the run's frame range,
+// and the run's trajectory.txt, one pose per frame of it (checked).
+struct RunDataset {
+  RunRecording recording;
+  std::unique_ptr<datasets::Dataset> dataset;
+  std::vector<Isometry3d> trajectory;  // T_W_L of frame i of `dataset`
+};
+Result<RunDataset> openRunDataset(const std::filesystem::path& run, const std::string& dataset_override,
+                                  bool load_images);
 
 }  // namespace artemis::cli
