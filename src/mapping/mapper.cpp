@@ -126,7 +126,14 @@ std::size_t Mapper::finish() {
     if (stale) pending.push_back(key);
   }
   sortSpatially(pending);
-  return meshVoxels(pending);
+  // In spatially sorted chunks the size of a busy frame's work, so that the constraint's patch (a
+  // few hundred bytes a vertex) stays small however much of the map is pending.
+  constexpr std::size_t kChunk = 4096;
+  for (std::size_t begin = 0; begin < pending.size(); begin += kChunk) {
+    const auto first = pending.begin() + static_cast<std::ptrdiff_t>(begin);
+    meshVoxels({first, first + static_cast<std::ptrdiff_t>(std::min(kChunk, pending.size() - begin))});
+  }
+  return pending.size();
 }
 
 std::size_t Mapper::meshVoxels(const std::vector<VoxelKey>& keys, FrameStats* stats) {
@@ -163,7 +170,7 @@ std::size_t Mapper::meshVoxels(const std::vector<VoxelKey>& keys, FrameStats* st
   if (stats != nullptr) {
     stats->constrain_ms = clock.elapsedMs();
     for (const std::size_t c : cut) stats->faces_cut += c;
-    stats->constrained_vertices = constrained.active_vertices;
+    stats->constraint = constrained;
   }
   return keys.size();
 }

@@ -10,6 +10,7 @@
 
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
+#include <tbb/parallel_sort.h>
 
 #include "artemis/core/timer.hpp"
 #include "artemis/mapping/voxel_map.hpp"
@@ -59,42 +60,50 @@ ConstraintSolver::ConstraintSolver(const SemanticConstraintParams& params, Const
   }
 
   // Neighbours: the other corners of a vertex's faces, sorted and unique, each with its edge's
-  // constants (the distributions do not change during a solve). Counted, then filled, in parallel.
-  const auto gather = [&](std::uint32_t v, std::vector<std::uint32_t>& around) {
-    around.clear();
-    for (std::uint32_t k = face_offsets_[v]; k < face_offsets_[v + 1]; ++k) {
-      for (const std::uint32_t u : patch.faces[vertex_faces_[k]]) {
-        if (u != v) around.push_back(u);
-      }
+  // constants (the distributions do not change during a solve). Only the vertices whose energy
+  // terms can change need them: the active ones and their neighbours (whose normals move). Each is
+  // gathered once, in parallel, into room for twice its faces (the most it can have), then packed.
+  std::vector<std::uint8_t> needs(n, 0);
+  for (const Face& f : patch.faces) {
+    if (patch.active[f[0]] != 0 || patch.active[f[1]] != 0 || patch.active[f[2]] != 0) {
+      for (const std::uint32_t v : f) needs[v] = 1;
     }
-    std::sort(around.begin(), around.end());
-    around.erase(std::unique(around.begin(), around.end()), around.end());
-  };
+  }
+  std::vector<std::uint32_t> room(n + 1, 0);
+  for (std::size_t v = 0; v < n; ++v) room[v + 1] = room[v] + (needs[v] != 0 ? 2 * (face_offsets_[v + 1] - face_offsets_[v]) : 0);
+  std::vector<Neighbour> gathered(room[n]);
   neighbour_offsets_.assign(n + 1, 0);
-  tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, static_cast<std::uint32_t>(n), 256), [&](const auto& range) {
-    thread_local std::vector<std::uint32_t> around;
-    for (std::uint32_t v = range.begin(); v < range.end(); ++v) {
-      gather(v, around);
-      neighbour_offsets_[v + 1] = static_cast<std::uint32_t>(around.size());
-    }
-  });
-  for (std::size_t v = 0; v < n; ++v) neighbour_offsets_[v + 1] += neighbour_offsets_[v];
-  neighbours_.resize(neighbour_offsets_[n]);
   const std::size_t slots = patch.slots;
   tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, static_cast<std::uint32_t>(n), 256), [&](const auto& range) {
     thread_local std::vector<std::uint32_t> around;
     for (std::uint32_t v = range.begin(); v < range.end(); ++v) {
-      gather(v, around);
+      if (needs[v] == 0) continue;
+      around.clear();
+      for (std::uint32_t k = face_offsets_[v]; k < face_offsets_[v + 1]; ++k) {
+        for (const std::uint32_t u : patch.faces[vertex_faces_[k]]) {
+          if (u != v) around.push_back(u);
+        }
+      }
+      std::sort(around.begin(), around.end());
+      around.erase(std::unique(around.begin(), around.end()), around.end());
+      neighbour_offsets_[v + 1] = static_cast<std::uint32_t>(around.size());
       const float* p = &patch.distributions[v * slots];
       for (std::size_t i = 0; i < around.size(); ++i) {
         const std::uint32_t u = around[i];
         const float* q = &patch.distributions[u * slots];
         // Equal distributions (both never observed, or one voxel's prior) are common: JS 0, sim 1.
         const double js = std::equal(p, p + slots, q) ? 0.0 : jensenShannon(p, q, slots);
-        neighbours_[neighbour_offsets_[v] + i] = {
-            u, static_cast<float>(semanticSimilarity(js, params.temperature)),
-            static_cast<float>(static_cast<double>(patch.confidence[v]) * patch.confidence[u] * js)};
+        gathered[room[v] + i] = {u, static_cast<float>(semanticSimilarity(js, params.temperature)),
+                                 static_cast<float>(static_cast<double>(patch.confidence[v]) * patch.confidence[u] * js)};
       }
+    }
+  });
+  for (std::size_t v = 0; v < n; ++v) neighbour_offsets_[v + 1] += neighbour_offsets_[v];
+  neighbours_.resize(neighbour_offsets_[n]);
+  tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, static_cast<std::uint32_t>(n), 1024), [&](const auto& range) {
+    for (std::uint32_t v = range.begin(); v < range.end(); ++v) {
+      std::copy_n(gathered.begin() + room[v], neighbour_offsets_[v + 1] - neighbour_offsets_[v],
+                  neighbours_.begin() + neighbour_offsets_[v]);
     }
   });
 
@@ -102,8 +111,14 @@ ConstraintSolver::ConstraintSolver(const SemanticConstraintParams& params, Const
   for (std::size_t v = 0; v < n; ++v) x_[v] = patch.positions[v].cast<double>();
   area_normals_.resize(n);
   normals_.resize(n);
+  lengths_.resize(neighbours_.size());
   tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, static_cast<std::uint32_t>(n), 1024), [&](const auto& range) {
-    for (std::uint32_t v = range.begin(); v < range.end(); ++v) refreshNormal(v);
+    for (std::uint32_t v = range.begin(); v < range.end(); ++v) {
+      refreshNormal(v);
+      for (std::uint32_t k = neighbour_offsets_[v]; k < neighbour_offsets_[v + 1]; ++k) {
+        lengths_[k] = (x_[v] - x_[neighbours_[k].vertex]).norm();
+      }
+    }
   });
 
   if (patch.block.empty()) {
@@ -181,6 +196,12 @@ struct MovedNormals {
   [[nodiscard]] int find(std::uint32_t v) const { return stamp[v] == current ? static_cast<int>(slot[v]) : -1; }
 };
 
+// The scratch of the calling thread (evaluate fills it; relax reads the accepted position's normals).
+MovedNormals& movedScratch() {
+  thread_local MovedNormals moved;
+  return moved;
+}
+
 Vector3d unit(const Vector3d& m) {
   const double length = m.norm();
   return length > 0.0 ? Vector3d(m / length) : Vector3d::Zero();
@@ -197,7 +218,8 @@ ConstraintEnergy ConstraintSolver::energy() const {
     e.geometry += d * d;
     for (std::uint32_t k = neighbour_offsets_[v]; k < neighbour_offsets_[v + 1]; ++k) {
       const Neighbour& nb = neighbours_[k];
-      if (nb.vertex < v) continue;  // each edge once
+      // Each edge once: from its lower end, or from the end with neighbours when only one has them.
+      if (nb.vertex < v && neighbour_offsets_[nb.vertex + 1] > neighbour_offsets_[nb.vertex]) continue;
       const double length = (x_[v] - x_[nb.vertex]).norm();
       if (!(length > 0.0)) continue;
       e.semantic += nb.semantic / length;
@@ -223,17 +245,30 @@ std::array<Vector3d, 3> ConstraintSolver::localGradient(std::uint32_t v, const V
 void ConstraintSolver::evaluate(std::uint32_t v, const Vector3d& x, ConstraintEnergy* energy,
                                 std::array<Vector3d, 3>* gradient) const {
   // Stamps only grow, so an entry left by an earlier call (or an earlier patch) never matches.
-  thread_local MovedNormals moved;
+  MovedNormals& moved = movedScratch();
   moved.begin(x_.size());
   const auto add = [&](std::uint32_t u) {
     moved.stamp[u] = moved.current;
     moved.slot[u] = static_cast<std::uint32_t>(moved.vertex.size());
     moved.vertex.push_back(u);
-    moved.area.push_back(areaNormal(u, v, x));
-    moved.normal.push_back(unit(moved.area.back()));
+    moved.area.push_back(area_normals_[u]);
   };
   add(v);
   for (std::uint32_t k = neighbour_offsets_[v]; k < neighbour_offsets_[v + 1]; ++k) add(neighbours_[k].vertex);
+  // Only the faces of v change with x: each adds its change of area vector to its three corners
+  // (all of them v or its neighbours), so the moved normals cost one pass over v's faces.
+  for (std::uint32_t k = face_offsets_[v]; k < face_offsets_[v + 1]; ++k) {
+    const Face& f = patch_.faces[vertex_faces_[k]];
+    const Vector3d& a = x_[f[0]];
+    const Vector3d& b = x_[f[1]];
+    const Vector3d& c = x_[f[2]];
+    const Vector3d& a2 = position(f[0], v, x);
+    const Vector3d& b2 = position(f[1], v, x);
+    const Vector3d& c2 = position(f[2], v, x);
+    const Vector3d change = (b2 - a2).cross(c2 - a2) - (b - a).cross(c - a);
+    for (const std::uint32_t corner : f) moved.area[static_cast<std::size_t>(moved.find(corner))] += change;
+  }
+  for (const Vector3d& m : moved.area) moved.normal.push_back(unit(m));
   const auto normal_of = [&](std::uint32_t q) -> const Vector3d& {
     const int j = moved.find(q);
     return j >= 0 ? moved.normal[static_cast<std::size_t>(j)] : normals_[q];
@@ -255,7 +290,7 @@ void ConstraintSolver::evaluate(std::uint32_t v, const Vector3d& x, ConstraintEn
       for (std::uint32_t k = neighbour_offsets_[p]; k < neighbour_offsets_[p + 1]; ++k) {
         const std::uint32_t q = neighbours_[k].vertex;
         if (q < p && moved.find(q) >= 0) continue;
-        const double length = (position(p, v, x) - position(q, v, x)).norm();
+        const double length = edgeLength(p, q, k, v, x);
         if (!(length > 0.0)) continue;
         e.smoothness += neighbours_[k].similarity / length * (moved.normal[i] - normal_of(q)).squaredNorm();
       }
@@ -293,7 +328,7 @@ void ConstraintSolver::evaluate(std::uint32_t v, const Vector3d& x, ConstraintEn
     Vector3d a = Vector3d::Zero();
     for (std::uint32_t k = neighbour_offsets_[p]; k < neighbour_offsets_[p + 1]; ++k) {
       const std::uint32_t q = neighbours_[k].vertex;
-      const double length = (position(p, v, x) - position(q, v, x)).norm();
+      const double length = edgeLength(p, q, k, v, x);
       if (!(length > 0.0)) continue;
       a += 2.0 * neighbours_[k].similarity / length * (moved.normal[i] - normal_of(q));
     }
@@ -323,17 +358,19 @@ double ConstraintSolver::relax(std::uint32_t v) {
   // per edge for a normal turning by |dx| / L (from each end: 4 w / L^2); 2 w_sem / L^2 for 1 / L.
   double h = 2.0 * patch_.plane_normals[v].cast<double>().squaredNorm();
   for (std::uint32_t k = neighbour_offsets_[v]; k < neighbour_offsets_[v + 1]; ++k) {
-    const double length = (x - x_[neighbours_[k].vertex]).norm();
+    const double length = lengths_[k];
     if (!(length > 0.0)) continue;
     const double l3 = length * length * length;
     h += params_.lambda_smooth * 4.0 * neighbours_[k].similarity / l3 +
          params_.lambda_sem * 2.0 * neighbours_[k].semantic / l3;
   }
   if (!(h > 0.0)) h = 1.0;
+  bool scratch_at_x = false;  // whether the thread's scratch holds the normals with v at x
   for (int step = 0; step < params_.steps; ++step) {
     std::array<Vector3d, 3> g;
     ConstraintEnergy here;
     evaluate(v, x, step == 0 ? &here : nullptr, &g);
+    scratch_at_x = true;
     Vector3d dx = -(g[0] + params_.lambda_sem * g[1] + params_.lambda_smooth * g[2]) / h;
     const double length = dx.norm();
     if (!(length > params_.min_step_m)) break;
@@ -348,6 +385,7 @@ double ConstraintSolver::relax(std::uint32_t v) {
       const Vector3d offset = trial - measured;
       if (offset.norm() > params_.max_offset_m) trial = measured + offset * (params_.max_offset_m / offset.norm());
       const double e = localEnergy(v, trial).total;
+      scratch_at_x = e < current;
       if (e < current) {
         x = trial;
         current = e;
@@ -359,8 +397,25 @@ double ConstraintSolver::relax(std::uint32_t v) {
   if (!(current < start)) return 0.0;
   x_[v] = x;
   patch_.positions[v] = x.cast<float>();
-  refreshNormal(v);
-  for (std::uint32_t k = neighbour_offsets_[v]; k < neighbour_offsets_[v + 1]; ++k) refreshNormal(neighbours_[k].vertex);
+  if (scratch_at_x) {
+    const MovedNormals& moved = movedScratch();
+    for (std::size_t i = 0; i < moved.vertex.size(); ++i) {
+      area_normals_[moved.vertex[i]] = moved.area[i];
+      normals_[moved.vertex[i]] = moved.normal[i];
+    }
+  } else {
+    refreshNormal(v);
+    for (std::uint32_t k = neighbour_offsets_[v]; k < neighbour_offsets_[v + 1]; ++k) refreshNormal(neighbours_[k].vertex);
+  }
+  for (std::uint32_t k = neighbour_offsets_[v]; k < neighbour_offsets_[v + 1]; ++k) {
+    const std::uint32_t u = neighbours_[k].vertex;
+    lengths_[k] = (x_[v] - x_[u]).norm();
+    // The same edge in u's list (sorted by vertex; u neighbours an active vertex, so it has one).
+    const auto first = neighbours_.begin() + neighbour_offsets_[u];
+    const auto last = neighbours_.begin() + neighbour_offsets_[u + 1];
+    const auto back = std::lower_bound(first, last, v, [](const Neighbour& nb, std::uint32_t w) { return nb.vertex < w; });
+    if (back != last && back->vertex == v) lengths_[static_cast<std::size_t>(back - neighbours_.begin())] = lengths_[k];
+  }
   return start - current;
 }
 
@@ -439,7 +494,7 @@ ConstraintStats SemanticConstraint::apply(const VoxelMap& map, SemanticMesh& mes
       }
     }
   }
-  std::sort(keys.begin(), keys.end());
+  tbb::parallel_sort(keys.begin(), keys.end());
   keys.erase(std::unique(keys.begin(), keys.end()), keys.end());
 
   if (local_of_.size() < mesh.vertexCount()) {
@@ -464,34 +519,47 @@ ConstraintStats SemanticConstraint::apply(const VoxelMap& map, SemanticMesh& mes
     if (voxel == nullptr) continue;
     for (const std::uint32_t v : voxel->vertices) mark(v, 1);
   }
-  std::vector<const std::vector<Face>*> lists;
-  for (const VoxelKey& key : keys) {
-    if (const std::vector<Face>* faces = mesh.voxelFaces(key); faces != nullptr) lists.push_back(faces);
-  }
-  for (const auto* faces : lists) {
-    for (const Face& f : *faces) {
-      if (level(f[0]) != 1 && level(f[1]) != 1 && level(f[2]) != 1) continue;
-      for (const std::uint32_t v : f) {
-        if (level(v) == 0) mark(v, 2);
+  // The face lists around the meshed voxels (looked up in parallel, kept in key order).
+  std::vector<const std::vector<Face>*> lists(keys.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, keys.size(), 256), [&](const auto& range) {
+    for (std::size_t k = range.begin(); k < range.end(); ++k) lists[k] = mesh.voxelFaces(keys[k]);
+  });
+  std::erase(lists, nullptr);
+  // Faces of the lists that pass `keep`, in list order: counted, then gathered, in parallel.
+  const auto select = [&](const auto& keep) {
+    std::vector<std::size_t> offset(lists.size() + 1, 0);
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, lists.size(), 64), [&](const auto& range) {
+      for (std::size_t k = range.begin(); k < range.end(); ++k) {
+        offset[k + 1] = static_cast<std::size_t>(std::count_if(lists[k]->begin(), lists[k]->end(), keep));
       }
+    });
+    for (std::size_t k = 0; k < lists.size(); ++k) offset[k + 1] += offset[k];
+    std::vector<Face> selected(offset.back());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, lists.size(), 64), [&](const auto& range) {
+      for (std::size_t k = range.begin(); k < range.end(); ++k) {
+        std::copy_if(lists[k]->begin(), lists[k]->end(), selected.begin() + static_cast<std::ptrdiff_t>(offset[k]), keep);
+      }
+    });
+    return selected;
+  };
+  for (const Face& f : select([&](const Face& f) { return level(f[0]) == 1 || level(f[1]) == 1 || level(f[2]) == 1; })) {
+    for (const std::uint32_t v : f) {
+      if (level(v) == 0) mark(v, 2);
     }
   }
   // The patch: every face with an active vertex or a neighbour of one (what their normals sum).
   ConstraintPatch patch;
   patch.slots = mesh.slotCount();
+  patch.faces = select([&](const Face& f) { return level(f[0]) != 0 || level(f[1]) != 0 || level(f[2]) != 0; });
   std::vector<std::uint32_t> global;  // patch index -> mesh vertex
-  const auto local = [&](std::uint32_t v) {
-    if (numbered_[v] != current_stamp_) {
-      numbered_[v] = current_stamp_;
-      local_of_[v] = static_cast<std::uint32_t>(global.size());
-      global.push_back(v);
-    }
-    return local_of_[v];
-  };
-  for (const auto* faces : lists) {
-    for (const Face& f : *faces) {
-      if (level(f[0]) == 0 && level(f[1]) == 0 && level(f[2]) == 0) continue;
-      patch.faces.push_back({local(f[0]), local(f[1]), local(f[2])});
+  for (Face& f : patch.faces) {
+    for (std::uint32_t& v : f) {
+      if (numbered_[v] != current_stamp_) {
+        numbered_[v] = current_stamp_;
+        local_of_[v] = static_cast<std::uint32_t>(global.size());
+        global.push_back(v);
+      }
+      v = local_of_[v];
     }
   }
   const std::size_t n = global.size();
@@ -501,15 +569,17 @@ ConstraintStats SemanticConstraint::apply(const VoxelMap& map, SemanticMesh& mes
   patch.confidence.resize(n);
   patch.distributions.resize(n * patch.slots);
   patch.active.assign(n, 0);
-  tbb::parallel_for(std::size_t{0}, n, [&](std::size_t i) {
-    const std::uint32_t v = global[i];
-    patch.positions[i] = mesh.positions()[v];
-    patch.measured[i] = mesh.measuredPositions()[v];
-    patch.plane_normals[i] = mesh.normals()[v];
-    patch.confidence[i] = mesh.confidence(v, confidence_lambda_);
-    patch.active[i] = level(v) == 1 ? 1 : 0;
-    float* out = &patch.distributions[i * patch.slots];
-    if (!mesh.distribution(v, out)) std::fill_n(out, patch.slots, 1.0f / static_cast<float>(patch.slots));
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const auto& range) {
+    for (std::size_t i = range.begin(); i < range.end(); ++i) {
+      const std::uint32_t v = global[i];
+      patch.positions[i] = mesh.positions()[v];
+      patch.measured[i] = mesh.measuredPositions()[v];
+      patch.plane_normals[i] = mesh.normals()[v];
+      patch.confidence[i] = mesh.confidence(v, confidence_lambda_);
+      patch.active[i] = level(v) == 1 ? 1 : 0;
+      float* out = &patch.distributions[i * patch.slots];
+      if (!mesh.distribution(v, out)) std::fill_n(out, patch.slots, 1.0f / static_cast<float>(patch.slots));
+    }
   });
   // Parallel schedule: blocks of b^3 voxels coloured by the parity of their coordinates. Two
   // vertices of same-coloured blocks are at least b voxels apart, less what each may move; a
@@ -528,16 +598,21 @@ ConstraintStats SemanticConstraint::apply(const VoxelMap& map, SemanticMesh& mes
   const auto side = static_cast<std::int32_t>(std::floor(reach / map.voxelSize())) + 1;
   patch.block.resize(n);
   patch.colour.resize(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    const VoxelKey block = coarserKey(mesh.voxels()[global[i]], side);
-    patch.block[i] = block;
-    patch.colour[i] = static_cast<std::uint8_t>((block.x & 1) | ((block.y & 1) << 1) | ((block.z & 1) << 2));
-  }
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 4096), [&](const auto& range) {
+    for (std::size_t i = range.begin(); i < range.end(); ++i) {
+      const VoxelKey block = coarserKey(mesh.voxels()[global[i]], side);
+      patch.block[i] = block;
+      patch.colour[i] = static_cast<std::uint8_t>((block.x & 1) | ((block.y & 1) << 1) | ((block.z & 1) << 2));
+    }
+  });
   stats.patch_vertices = n;
   stats.active_vertices = static_cast<std::size_t>(std::count(patch.active.begin(), patch.active.end(), 1));
+  stats.patch_ms = clock.elapsedMs();
 
   ConstraintSolver solver(params_, patch);
+  stats.build_ms = clock.elapsedMs() - stats.patch_ms;
   solver.solve(stats);
+  stats.solve_ms = clock.elapsedMs() - stats.patch_ms - stats.build_ms;
   for (std::size_t i = 0; i < n; ++i) {
     if (patch.active[i] != 0) mesh.setPosition(global[i], patch.positions[i]);
   }

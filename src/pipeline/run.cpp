@@ -367,9 +367,10 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
     ++report.frames;
     log::debug(
         "frame {}: {} points, {} kept, {} active voxels, {} meshed, insert {:.1f} ms, mesh {:.1f} ms, constrain {:.1f} "
-        "ms ({} vertices, {} faces cut)",
+        "ms ({} of {} patch vertices; patch {:.1f}, build {:.1f}, solve {:.1f} ms; {} faces cut)",
         frame->index, stats.points, stats.points_kept, stats.active_voxels, stats.meshed_voxels, stats.insert_ms,
-        stats.mesh_ms, stats.constrain_ms, stats.constrained_vertices, stats.faces_cut);
+        stats.mesh_ms, stats.constrain_ms, stats.constraint.active_vertices, stats.constraint.patch_vertices,
+        stats.constraint.patch_ms, stats.constraint.build_ms, stats.constraint.solve_ms, stats.faces_cut);
     if (params.observer) {
       params.observer({mapper, i + 1, total, frame->index, T_W_L, refined ? &*refined : nullptr, report.times, false});
     }

@@ -151,6 +151,35 @@ TEST(SemanticConstraint, EverySweepLowersTheTotalEnergy) {
   }
 }
 
+TEST(SemanticConstraint, APartlyActivePatchLowersTheFullEnergyByWhatItReports) {
+  // Only the middle 4 x 4 of the 12 x 12 plane may move: the solver then keeps neighbour lists for
+  // those vertices and the ring around them only, and leaves out edges that cannot change.
+  ConstraintPatch patch = noisyPlane();
+  for (int i = 0; i < 12; ++i) {
+    for (int j = 0; j < 12; ++j) patch.active[static_cast<std::size_t>(i * 12 + j)] = i >= 4 && i < 8 && j >= 4 && j < 8;
+  }
+  const auto full_energy = [](const ConstraintPatch& p) {
+    ConstraintPatch all = p;
+    std::fill(all.active.begin(), all.active.end(), std::uint8_t{1});
+    return ConstraintSolver(strongParams(), all).energy().total;
+  };
+  const ConstraintPatch before = patch;
+  const double full_before = full_energy(patch);
+  ConstraintSolver solver(strongParams(), patch);
+  const double partial_before = solver.energy().total;
+  double lowered = 0.0;
+  for (int s = 0; s < 4; ++s) lowered += solver.sweep();
+  EXPECT_GT(lowered, 1e-3 * full_before);
+  EXPECT_NEAR(full_before - full_energy(patch), lowered, 1e-6 * full_before);
+  EXPECT_NEAR(partial_before - solver.energy().total, lowered, 1e-6 * full_before);
+  EXPECT_LT(partial_before, full_before);  // the constant edges are left out
+  for (std::size_t v = 0; v < patch.positions.size(); ++v) {
+    if (patch.active[v] == 0) {
+      EXPECT_EQ(patch.positions[v], before.positions[v]) << v;
+    }
+  }
+}
+
 TEST(SemanticConstraint, ANoisyPlaneComesCloserToTheTruePlane) {
   ConstraintPatch patch = noisyPlane();
   const auto rms_z = [](const std::vector<Vector3f>& points) {

@@ -46,7 +46,7 @@ struct FrameStats {
   std::size_t meshed_voxels = 0;  // voxels re-meshed this frame
   std::size_t semantic_observations = 0;
   std::size_t faces_cut = 0;           // faces the semantic constraint cut (1d)
-  std::size_t constrained_vertices = 0;  // vertices the semantic constraint could move
+  ConstraintStats constraint;          // the semantic constraint's patch, solve and times (1d)
 };
 
 // A frame's segmented camera view, for semantic fusion.

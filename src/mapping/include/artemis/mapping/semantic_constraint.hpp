@@ -101,6 +101,9 @@ struct ConstraintEnergy {
 
 struct ConstraintStats {
   double ms = 0.0;
+  double patch_ms = 0.0;  // of ms: gathering the patch
+  double build_ms = 0.0;  // its adjacency and each edge's JS and sim
+  double solve_ms = 0.0;  // the sweeps
   std::size_t active_vertices = 0;
   std::size_t patch_vertices = 0;
   int sweeps = 0;
@@ -120,6 +123,8 @@ class ConstraintSolver {
   // arrays disagree in size or a face names a vertex out of range.
   ConstraintSolver(const SemanticConstraintParams& params, ConstraintPatch& patch);
 
+  // E_total of the patch, less the edges between two vertices that neither move nor neighbour one
+  // that moves (constants of the solve).
   [[nodiscard]] ConstraintEnergy energy() const;
   // The part of E_total that depends on vertex v's position (what a Gauss-Seidel step lowers):
   // E_total(x) - localEnergy(v, x) does not depend on x. Terms unweighted, total weighted.
@@ -141,6 +146,12 @@ class ConstraintSolver {
   [[nodiscard]] const Eigen::Vector3d& position(std::uint32_t v, std::uint32_t moved, const Eigen::Vector3d& x) const {
     return v == moved ? x : x_[v];
   }
+  // |x_p - x_q| for neighbour entry k (q in p's list), with vertex `moved` at x: cached unless the
+  // edge has `moved` at an end.
+  [[nodiscard]] double edgeLength(std::uint32_t p, std::uint32_t q, std::uint32_t k, std::uint32_t moved,
+                                  const Eigen::Vector3d& x) const {
+    return p == moved || q == moved ? (position(p, moved, x) - position(q, moved, x)).norm() : lengths_[k];
+  }
   // Unnormalised normal of v (sum of its faces' area vectors), with vertex `moved` at x.
   [[nodiscard]] Eigen::Vector3d areaNormal(std::uint32_t v, std::uint32_t moved, const Eigen::Vector3d& x) const;
   void refreshNormal(std::uint32_t v);
@@ -156,6 +167,7 @@ class ConstraintSolver {
   std::vector<std::uint32_t> vertex_faces_;
   std::vector<std::uint32_t> neighbour_offsets_;  // vertex -> neighbours (CSR, sorted)
   std::vector<Neighbour> neighbours_;
+  std::vector<double> lengths_;  // per neighbour entry: the edge's length at the current positions
   std::vector<Eigen::Vector3d> x_;             // positions, in double
   std::vector<Eigen::Vector3d> area_normals_;  // m_v at the current positions
   std::vector<Eigen::Vector3d> normals_;       // n_v = m_v / |m_v| (zero when |m_v| is 0)
