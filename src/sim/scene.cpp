@@ -434,9 +434,12 @@ class StreetBuilder {
         const double len = truck ? 7.5 : (variant == 1 ? rng_.uniform(3.9, 4.2) : rng_.uniform(4.5, 4.9));
         const double width = truck ? 2.5 : (variant == 2 ? 1.9 : rng_.uniform(1.72, 1.82));
         if (x + len > scene_.length_m - 2.0) break;
-        // Some touch the curb with their tyres; the others stand a little off it.
+        // Some touch the curb with their tyres; the others stand a little off it. Trucks, wider
+        // than the parking lane, always touch it: otherwise the car driving by, which weaves about
+        // its lane, would pass through them.
         const bool at_curb = placed == 0 || rng_.chance(0.4);  // at least one a side
-        const double off_curb = at_curb ? 0.0 : rng_.uniform(0.15, 0.35);
+        const double drawn = at_curb ? 0.0 : rng_.uniform(0.15, 0.35);  // drawn for trucks too: the same street
+        const double off_curb = truck ? 0.0 : drawn;
         const double y_out = curb_y_ - off_curb - width / 2;
         const double yaw = (side < 0 ? 0.0 : std::numbers::pi);
         const Vector3d centre = at(x + len / 2, side, y_out, 0.0);
