@@ -1,8 +1,13 @@
 // artemis run: build the Living Map of a recording (or, with none given, of the simulated demo street).
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <memory>
+#include <sstream>
+#include <string>
+#include <vector>
 #include <nlohmann/json.hpp>
 
 #include "artemis/core/log.hpp"
@@ -40,6 +45,7 @@ struct RunFlags {
   std::string vocabulary;
   std::string aliases;
   std::string texture = "auto";
+  std::string vehicle_box = "kitti";  // "kitti", "off" or x0,x1,y0,y1,z0,z1 (LiDAR frame, m)
   // Live viewer
   bool viewer = false;
   ViewerFlags viewer_flags;
@@ -181,6 +187,11 @@ nlohmann::ordered_json configJson(const RunFlags& f, const std::string& dataset_
             {"max_offset_m", m.constraint.max_offset_m},
             {"cut_similarity", m.constraint.cut_similarity},
             {"cut_depth_gap_m", m.constraint.cut_depth_gap_m}}},
+          {"vehicle_box_m",
+           m.vehicle_box_L.isEmpty()
+               ? nlohmann::json(nullptr)
+               : nlohmann::json{m.vehicle_box_L.min().x(), m.vehicle_box_L.max().x(), m.vehicle_box_L.min().y(),
+                                m.vehicle_box_L.max().y(), m.vehicle_box_L.min().z(), m.vehicle_box_L.max().z()}},
           {"remesh_growth", m.remesh_growth},
           {"remesh_min_new", m.remesh_min_new},
           {"first_mesh_points", m.first_mesh_points},
@@ -219,7 +230,41 @@ Result<std::string> demoDataset(const fs::path& out) {
 void printSummary(const RunFlags& flags, const pipeline::RunReport& report_value, const Stopwatch& clock,
                   bool semantic_on);
 
+// --vehicle-box: "kitti" (inside KITTI's car, which the simulator copies: the LiDAR 1.73 m above
+// the road; the box is 2.7 m behind it to 1.7 m ahead, 1.6 m wide, from 0.33 m above the road to
+// the sensor, a little smaller than the 4.8 m x 1.8 m body, so that nothing static it passes close
+// by is cut: the simulator's parked trucks stand 1.05 m from its path), "off", or the six numbers
+// x0,x1,y0,y1,z0,z1 of the LiDAR frame.
+Result<Eigen::AlignedBox3f> parseVehicleBox(const std::string& text) {
+  if (text == "off") return Eigen::AlignedBox3f();
+  if (text == "kitti") return Eigen::AlignedBox3f(Eigen::Vector3f(-2.7f, -0.8f, -1.4f), Eigen::Vector3f(1.7f, 0.8f, 0.0f));
+  std::vector<float> v;
+  std::stringstream in(text);
+  std::string item;
+  while (std::getline(in, item, ',')) {
+    try {
+      std::size_t used = 0;
+      v.push_back(std::stof(item, &used));
+      if (used != item.size()) throw std::invalid_argument(item);
+    } catch (const std::exception&) {
+      return invalidArgument("--vehicle-box: '" + item + "' is not a number (expected kitti, off or x0,x1,y0,y1,z0,z1)");
+    }
+  }
+  if (v.size() != 6 || !(v[0] < v[1]) || !(v[2] < v[3]) || !(v[4] < v[5]) ||
+      !std::all_of(v.begin(), v.end(), [](float x) { return std::isfinite(x); })) {
+    return invalidArgument("--vehicle-box '" + text +
+                           "': expected kitti, off or six finite numbers x0,x1,y0,y1,z0,z1 with x0 < x1, y0 < y1, z0 < z1");
+  }
+  return Eigen::AlignedBox3f(Eigen::Vector3f(v[0], v[2], v[4]), Eigen::Vector3f(v[1], v[3], v[5]));
+}
+
 int runRun(RunFlags flags) {
+  auto box = parseVehicleBox(flags.vehicle_box);
+  if (!box) {
+    log::error("{}", box.status().message());
+    return 1;
+  }
+  flags.params.mapper.vehicle_box_L = *box;
   if (flags.dataset.path.empty()) {
     auto demo = demoDataset(flags.out);
     if (!demo) {
@@ -346,6 +391,10 @@ void printSummary(const RunFlags& flags, const pipeline::RunReport& report_value
       "{:.1f} / {:.1f}; final meshing {:.0f} ms; peak memory {:.0f} MB; {:.1f} s in all\n",
       insert.median_ms, insert.p95_ms, mesh.median_ms, mesh.p95_ms, total.median_ms, total.p95_ms, report->finish_ms,
       report->peak_rss_mb, clock.elapsedS());
+  if (report->points_in_vehicle_path > 0) {
+    fmt::print("{} returns inside the vehicle's path dropped (something following it, or the rig itself)\n",
+               report->points_in_vehicle_path);
+  }
   if (!report->times.samples("constrain").empty()) {
     const auto constrain = report->times.summary("constrain");
     fmt::print("semantic constraint per frame (median / p95 ms) {:.1f} / {:.1f}; {} faces cut\n", constrain.median_ms,
@@ -398,6 +447,11 @@ void addRunCommand(CLI::App& app, int& exit_code) {
   cmd->add_option("--rim", m.mesher.rim_m, "Neighbour points this close to a voxel join its triangulation (m)")
       ->capture_default_str();
   cmd->add_option("--threads", m.threads, "Worker threads (0: all cores)")->capture_default_str();
+  cmd->add_option("--vehicle-box", flags->vehicle_box,
+                  "The vehicle's body in the LiDAR frame: returns inside it at the current or an earlier pose "
+                  "(a car following in the same lane) are dropped. kitti (KITTI's car and the simulator's), off, "
+                  "or x0,x1,y0,y1,z0,z1 in m")
+      ->capture_default_str();
   auto& c = m.constraint;
   cmd->add_flag_callback(
       "--no-semantic-constraint", [&c] { c.enabled = false; },

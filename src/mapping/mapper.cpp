@@ -51,6 +51,7 @@ Mapper::Mapper(const MapperParams& params)
       fusion_(params.semantics),
       refinement_(params.refinement, params.semantics.background_score),
       constraint_(params.constraint, params.semantics.confidence_lambda),
+      swept_(params.vehicle_box_L),
       arena_(std::make_unique<Arena>(params.threads)) {
   mesh_.setVoxelPrior(static_cast<float>(params.semantics.voxel_prior));
   mesh_.setStageOneWeight(static_cast<float>(params.refinement.stage_one_weight));
@@ -68,10 +69,27 @@ FrameStats Mapper::integrate(const PointCloud& points_L, const Isometry3d& T_W_L
   std::vector<Eigen::Vector3f>& points_W = points_W_;  // reused: no fresh pages every frame
   points_W.resize(points_L.size());
   for (std::size_t i = 0; i < points_L.size(); ++i) points_W[i] = R * points_L.points[i] + t;
+  const std::vector<std::uint8_t>* drop = nullptr;
+  if (swept_.enabled()) {
+    swept_.add(T_W_L);
+    float reach = 0.0f;  // horizontal extent of the scan around the sensor
+    for (const Eigen::Vector3f& p : points_L.points) {
+      if (p.allFinite()) reach = std::max(reach, p.head<2>().norm());
+    }
+    swept_.focus(t, std::min(reach, 1000.0f));
+    drop_.assign(points_W.size(), 0);
+    arena_->arena.execute([&] {
+      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points_W.size(), 4096), [&](const auto& range) {
+        for (std::size_t i = range.begin(); i < range.end(); ++i) drop_[i] = swept_.contains(points_W[i]) ? 1 : 0;
+      });
+    });
+    stats.points_in_vehicle_path = static_cast<std::size_t>(std::count(drop_.begin(), drop_.end(), std::uint8_t{1}));
+    drop = &drop_;
+  }
   const std::size_t vertices_before = mesh_.vertexCount();
   std::vector<VoxelKey> active;
   const bool fuse = semantic != nullptr && semantic->view != nullptr && semantic->observation != nullptr;
-  arena_->arena.execute([&] { active = map_.insert(points_W, t, mesh_); });
+  arena_->arena.execute([&] { active = map_.insert(points_W, t, mesh_, drop); });
   stats.points_kept = mesh_.vertexCount() - vertices_before;
   stats.active_voxels = active.size();
   stats.insert_ms = clock.elapsedMs();

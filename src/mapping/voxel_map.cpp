@@ -62,7 +62,11 @@ void VoxelMap::grow() {
 }
 
 std::vector<VoxelKey> VoxelMap::insert(const std::vector<Eigen::Vector3f>& points_W, const Eigen::Vector3f& sensor_W,
-                                       SemanticMesh& mesh) {
+                                       SemanticMesh& mesh, const std::vector<std::uint8_t>* drop) {
+  if (drop != nullptr && drop->size() != points_W.size()) {
+    throw std::invalid_argument("VoxelMap::insert: the drop mask has " + std::to_string(drop->size()) +
+                                " entries for " + std::to_string(points_W.size()) + " points");
+  }
   ++frame_;
   // First, in parallel: each point's voxel key, its hash and its sub-cell. Keys are 32-bit: points
   // beyond +-1000 km (a broken pose) are refused, as are NaN and inf (sub_cell -1).
@@ -71,6 +75,10 @@ std::vector<VoxelKey> VoxelMap::insert(const std::vector<Eigen::Vector3f>& point
     for (std::size_t i = range.begin(); i < range.end(); ++i) {
       const Eigen::Vector3f& p = points_W[i];
       Prepared& out = prepared_[i];
+      if (drop != nullptr && (*drop)[i] != 0) {
+        out.sub_cell = -2;
+        continue;
+      }
       if (!p.allFinite() || !(p.cwiseAbs().maxCoeff() < 1e6f)) {
         out.sub_cell = -1;
         continue;
@@ -97,7 +105,7 @@ std::vector<VoxelKey> VoxelMap::insert(const std::vector<Eigen::Vector3f>& point
     prefetch(i + kAhead);
     Prepared& q = prepared_[i];
     if (q.sub_cell < 0) {
-      ++rejected_;
+      rejected_ += q.sub_cell == -1 ? 1 : 0;
       continue;
     }
     if (!(q.key == last_key)) {  // successive points often share a voxel

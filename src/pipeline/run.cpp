@@ -129,6 +129,7 @@ std::string timingJson(const RunReport& report) {
   j["finish_ms"] = report.finish_ms;
   j["peak_rss_mb"] = report.peak_rss_mb;
   j["frames_failed"] = report.frames_failed;
+  j["points_in_vehicle_path"] = report.points_in_vehicle_path;
   return j.dump(2) + "\n";
 }
 
@@ -211,6 +212,7 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
   }
   bool warned_no_sweep = false;
   std::size_t not_deskewed = 0;
+  bool warned_vehicle_box = false;
   const SemanticRunParams& sem = params.semantics;
   const bool semantic = sem.segmenter != nullptr;
   if (semantic && (sem.brush == nullptr || sem.vocabulary == nullptr)) {
@@ -336,6 +338,14 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
     report.times.add("mesh", stats.mesh_ms);
     if (params.mapper.constraint.enabled) report.times.add("constrain", stats.constrain_ms);
     report.faces_cut += stats.faces_cut;
+    report.points_in_vehicle_path += stats.points_in_vehicle_path;
+    if (stats.points > 0 && stats.points_in_vehicle_path * 20 > stats.points && !warned_vehicle_box) {
+      log::warn("frame {}: {} of {} returns lie inside the vehicle's box at this or an earlier pose and were dropped; "
+                "if that is more than the vehicle itself and what follows it, the box does not fit this rig "
+                "(artemis run --vehicle-box)",
+                frame->index, stats.points_in_vehicle_path, stats.points);
+      warned_vehicle_box = true;
+    }
     // Stage 2: colours (unless the frame is held out of texturing) and classes (when segmented).
     bool texture = false;
     if (params.texture) {

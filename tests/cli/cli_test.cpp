@@ -121,6 +121,34 @@ TEST(Cli, PoseRefinementFlagsAreChecked) {
   EXPECT_NE(cloud.err.find("needs poses"), std::string::npos) << cloud.err;
 }
 
+TEST(Cli, VehicleBoxIsCheckedAndRecorded) {
+  test::TempDir tmp;
+  for (const char* bad : {"1,2,3", "2,1,-1,1,-1,0", "a,b,c,d,e,f", "0,1,0,1,0,nan", "lorry"}) {
+    const auto r = run(std::string("run --vehicle-box ") + bad + " --out " + (tmp / "bad").string());
+    EXPECT_EQ(r.exit_code, 1) << bad;
+    EXPECT_NE(r.err.find("--vehicle-box"), std::string::npos) << bad << ": " << r.err;
+  }
+  ARTEMIS_REQUIRE_DATA("kitti_raw/reference_poses.txt");
+  const std::string poses = (test::dataDir() / "kitti_raw/reference_poses.txt").string();
+  for (const std::string box : {"kitti", "off", "-4,3,-1.2,1.2,-1.5,0.2"}) {
+    const auto out = tmp / ("box_" + std::to_string(box.size()));
+    const auto r = run("run " + rawPath() + " --frames 0:2 --poses " + poses + " --pose-refinement off --texture off " +
+                       "--vehicle-box " + box + " --out " + out.string());
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    std::ifstream config_file(out / "config.json");
+    const auto config = nlohmann::json::parse(config_file);
+    if (box == "off") {
+      EXPECT_TRUE(config["vehicle_box_m"].is_null());
+    } else {
+      ASSERT_EQ(config["vehicle_box_m"].size(), 6u);
+      EXPECT_FLOAT_EQ(config["vehicle_box_m"][0].get<float>(), box == "kitti" ? -2.7f : -4.0f);
+      EXPECT_FLOAT_EQ(config["vehicle_box_m"][5].get<float>(), box == "kitti" ? 0.0f : 0.2f);
+    }
+    std::ifstream timing_file(out / "timing.json");
+    EXPECT_TRUE(nlohmann::json::parse(timing_file).contains("points_in_vehicle_path"));
+  }
+}
+
 // artemis run on the drive's first frames refines the OXTS poses by default, and writes what it did.
 TEST(Cli, RunRefinesGpsPosesByDefault) {
   ARTEMIS_REQUIRE_DATA("kitti_raw");

@@ -2,6 +2,9 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdint>
+#include <stdexcept>
+#include <vector>
 #include <limits>
 #include <set>
 #include <tuple>
@@ -82,6 +85,24 @@ TEST(VoxelMap, NegativeCoordinatesAndBadPoints) {
   EXPECT_EQ(mesh.vertexCount(), 2u);
   EXPECT_THROW(VoxelMap({.voxel_size_m = 0.0, .subdivisions = 8}), std::invalid_argument);
   EXPECT_THROW(VoxelMap({.voxel_size_m = 0.4, .subdivisions = 9}), std::invalid_argument);
+}
+
+TEST(VoxelMap, DroppedPointsAreLeftOutButNotRefused) {
+  VoxelMap map({.voxel_size_m = 0.5, .subdivisions = 4});
+  SemanticMesh mesh;
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const std::vector<Eigen::Vector3f> points{{0.1f, 0.1f, 0.1f}, {1.1f, 0.1f, 0.1f}, {nan, 0, 0}, {2.1f, 0.1f, 0.1f}};
+  const std::vector<std::uint8_t> drop{0, 1, 0, 0};
+  const auto active = map.insert(points, {0, 0, 2}, mesh, &drop);
+  EXPECT_EQ(active.size(), 2u);
+  EXPECT_EQ(mesh.vertexCount(), 2u);
+  EXPECT_EQ(map.rejectedPoints(), 1u);  // the NaN only
+  EXPECT_NE(map.insertedVertex(0), VoxelMap::kNoVertex);
+  EXPECT_EQ(map.insertedVertex(1), VoxelMap::kNoVertex);
+  EXPECT_EQ(map.insertedVertex(2), VoxelMap::kNoVertex);
+  EXPECT_NE(map.insertedVertex(3), VoxelMap::kNoVertex);
+  const std::vector<std::uint8_t> short_mask{0, 1};
+  EXPECT_THROW(map.insert(points, {0, 0, 2}, mesh, &short_mask), std::invalid_argument);
 }
 
 }  // namespace

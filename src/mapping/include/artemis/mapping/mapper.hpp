@@ -14,6 +14,7 @@
 #include "artemis/mapping/semantic_constraint.hpp"
 #include "artemis/mapping/semantic_fusion.hpp"
 #include "artemis/mapping/semantic_mesh.hpp"
+#include "artemis/mapping/swept_volume.hpp"
 #include "artemis/mapping/voxel_map.hpp"
 
 namespace artemis::mapping {
@@ -33,6 +34,9 @@ struct MapperParams {
   int remesh_min_new = 3;
   int first_mesh_points = 12;
   int threads = 0;  // 0: all cores
+  // The vehicle's body in the LiDAR frame (empty: none). Returns inside it at the frame's pose or
+  // any earlier one are dropped (see SweptVolume): the vehicle drove through that space.
+  Eigen::AlignedBox3f vehicle_box_L;
 };
 
 struct FrameStats {
@@ -42,6 +46,7 @@ struct FrameStats {
   double constrain_ms = 0.0;      // semantic constraint (1d): cutting faces and moving vertices
   std::size_t points = 0;         // points given
   std::size_t points_kept = 0;    // new mesh vertices
+  std::size_t points_in_vehicle_path = 0;  // dropped: inside the vehicle's box at this or an earlier pose
   std::size_t active_voxels = 0;  // voxels that gained points
   std::size_t meshed_voxels = 0;  // voxels re-meshed this frame
   std::size_t semantic_observations = 0;
@@ -90,7 +95,9 @@ class Mapper {
   SemanticFusion fusion_;
   Refinement refinement_;
   SemanticConstraint constraint_;
+  SweptVolume swept_;
   std::vector<Eigen::Vector3f> points_W_;
+  std::vector<std::uint8_t> drop_;
   struct Arena;
   std::unique_ptr<Arena> arena_;
 };

@@ -43,9 +43,11 @@ class VoxelMap {
   explicit VoxelMap(const VoxelMapParams& params);
 
   // Adds world-frame points seen from `sensor_W`; kept points are added to `mesh` as vertices.
-  // Returns the keys of voxels that gained points, in order of first gain (deterministic).
+  // Points with a non-zero entry in `drop` (one per point, when given) are left out without being
+  // counted as refused. Returns the keys of voxels that gained points, in order of first gain
+  // (deterministic).
   std::vector<VoxelKey> insert(const std::vector<Eigen::Vector3f>& points_W, const Eigen::Vector3f& sensor_W,
-                               SemanticMesh& mesh);
+                               SemanticMesh& mesh, const std::vector<std::uint8_t>* drop = nullptr);
   // The vertex holding the sub-cell of point i of the last insert() (the point itself, or the one
   // that was there before), or kNoVertex for a refused point. Valid until the next insert().
   [[nodiscard]] std::uint32_t insertedVertex(std::size_t i) const;
@@ -96,7 +98,7 @@ class VoxelMap {
   struct Prepared {
     VoxelKey key;
     std::uint64_t hash = 0;
-    int sub_cell = -1;        // -1: point refused
+    int sub_cell = -1;        // -1: point refused, -2: dropped by the caller
     std::uint32_t voxel = 0;  // index into voxels_, once inserted
   };
   std::vector<Prepared> prepared_;  // per-frame scratch of insert()
