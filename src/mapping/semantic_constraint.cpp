@@ -276,6 +276,29 @@ void ConstraintSolver::evaluate(std::uint32_t v, const Vector3d& x, ConstraintEn
   const Vector3d n_plane = patch_.plane_normals[v].cast<double>();
   const double d = n_plane.dot(x - patch_.measured[v].cast<double>());
 
+  // One pass over every edge with an end whose normal moves gives both E_smoothness (an edge with
+  // both ends moving counts once) and, for the gradient, each moved normal's dE/dn_p =
+  // sum_q 2 w_pq (n_p - n_q) (every edge of p).
+  const bool want_gradient = gradient != nullptr;
+  double smoothness = 0.0;
+  if (want_gradient) moved.adjoint.assign(moved.vertex.size(), Vector3d::Zero());
+  for (std::size_t i = 0; i < moved.vertex.size(); ++i) {
+    const std::uint32_t p = moved.vertex[i];
+    Vector3d a = Vector3d::Zero();
+    for (std::uint32_t k = neighbour_offsets_[p]; k < neighbour_offsets_[p + 1]; ++k) {
+      const std::uint32_t q = neighbours_[k].vertex;
+      const bool counted = energy != nullptr && !(q < p && moved.find(q) >= 0);
+      if (!counted && !want_gradient) continue;
+      const double length = edgeLength(p, q, k, v, x);
+      if (!(length > 0.0)) continue;
+      const double w = neighbours_[k].similarity / length;
+      const Vector3d diff = moved.normal[i] - normal_of(q);
+      if (counted) smoothness += w * diff.squaredNorm();
+      if (want_gradient) a += 2.0 * w * diff;
+    }
+    if (want_gradient) moved.adjoint[i] = a;  // turned into dE/dm_p below
+  }
+
   if (energy != nullptr) {
     ConstraintEnergy& e = *energy;
     e = {};
@@ -284,20 +307,10 @@ void ConstraintSolver::evaluate(std::uint32_t v, const Vector3d& x, ConstraintEn
       const double length = (x - x_[neighbours_[k].vertex]).norm();
       if (length > 0.0) e.semantic += neighbours_[k].semantic / length;
     }
-    // Every edge with an end whose normal moves; an edge with both ends moving counts once.
-    for (std::size_t i = 0; i < moved.vertex.size(); ++i) {
-      const std::uint32_t p = moved.vertex[i];
-      for (std::uint32_t k = neighbour_offsets_[p]; k < neighbour_offsets_[p + 1]; ++k) {
-        const std::uint32_t q = neighbours_[k].vertex;
-        if (q < p && moved.find(q) >= 0) continue;
-        const double length = edgeLength(p, q, k, v, x);
-        if (!(length > 0.0)) continue;
-        e.smoothness += neighbours_[k].similarity / length * (moved.normal[i] - normal_of(q)).squaredNorm();
-      }
-    }
+    e.smoothness = smoothness;
     e.total = e.geometry + params_.lambda_sem * e.semantic + params_.lambda_smooth * e.smoothness;
   }
-  if (gradient == nullptr) return;
+  if (!want_gradient) return;
 
   std::array<Vector3d, 3>& g = *gradient;
   // Geometry: d/dx (n . (x - p))^2.
@@ -315,23 +328,17 @@ void ConstraintSolver::evaluate(std::uint32_t v, const Vector3d& x, ConstraintEn
     const auto j = static_cast<std::size_t>(k - neighbour_offsets_[v]) + 1;  // moved index of nb.vertex
     g[2] += nb.similarity * (moved.normal[0] - moved.normal[j]).squaredNorm() * d_inv_length;
   }
-  // The normal part of smoothness. With E depending on n_p through the edges of p,
-  // dE/dn_p = sum_q 2 w_pq (n_p - n_q); through n = m / |m|, dE/dm_p = (I - n n^T) dE/dn_p / |m_p|
+  // The normal part of smoothness. Through n = m / |m|, dE/dm_p = (I - n n^T) dE/dn_p / |m_p|
   // = u_p. m_p sums its faces' area vectors m_f = x0 x x1 + x1 x x2 + x2 x x0, whose derivative
   // with respect to corner k is [x_{k-1} - x_{k+1}]_x, so u . dm_f/dx_k = u x (x_{k-1} - x_{k+1})
   // as a gradient. Summed over the faces of v: sum_f (sum of u over f's corners) x (...).
-  moved.adjoint.assign(moved.vertex.size(), Vector3d::Zero());
   for (std::size_t i = 0; i < moved.vertex.size(); ++i) {
-    const std::uint32_t p = moved.vertex[i];
     const double m_length = moved.area[i].norm();
-    if (!(m_length > 0.0)) continue;
-    Vector3d a = Vector3d::Zero();
-    for (std::uint32_t k = neighbour_offsets_[p]; k < neighbour_offsets_[p + 1]; ++k) {
-      const std::uint32_t q = neighbours_[k].vertex;
-      const double length = edgeLength(p, q, k, v, x);
-      if (!(length > 0.0)) continue;
-      a += 2.0 * neighbours_[k].similarity / length * (moved.normal[i] - normal_of(q));
+    if (!(m_length > 0.0)) {
+      moved.adjoint[i] = Vector3d::Zero();
+      continue;
     }
+    const Vector3d a = moved.adjoint[i];
     const Vector3d& n_p = moved.normal[i];
     moved.adjoint[i] = (a - n_p * n_p.dot(a)) / m_length;
   }
