@@ -230,13 +230,24 @@ ConstraintEnergy ConstraintSolver::energy() const {
   return e;
 }
 
+void ConstraintSolver::checkMovable(std::uint32_t v) const {
+  // A vertex with faces but no neighbour list is neither active nor next to an active vertex: the
+  // solver kept nothing to evaluate its terms with.
+  if (v >= x_.size() || (neighbour_offsets_[v + 1] == neighbour_offsets_[v] && face_offsets_[v + 1] > face_offsets_[v])) {
+    throw std::invalid_argument("ConstraintSolver: vertex " + std::to_string(v) +
+                                " is out of range, or neither active nor next to an active vertex");
+  }
+}
+
 ConstraintEnergy ConstraintSolver::localEnergy(std::uint32_t v, const Vector3d& x) const {
+  checkMovable(v);
   ConstraintEnergy e;
   evaluate(v, x, &e, nullptr);
   return e;
 }
 
 std::array<Vector3d, 3> ConstraintSolver::localGradient(std::uint32_t v, const Vector3d& x) const {
+  checkMovable(v);
   std::array<Vector3d, 3> g;
   evaluate(v, x, nullptr, &g);
   return g;
@@ -391,7 +402,9 @@ double ConstraintSolver::relax(std::uint32_t v) {
       Vector3d trial = x + dx;
       const Vector3d offset = trial - measured;
       if (offset.norm() > params_.max_offset_m) trial = measured + offset * (params_.max_offset_m / offset.norm());
-      const double e = localEnergy(v, trial).total;
+      ConstraintEnergy trial_energy;
+      evaluate(v, trial, &trial_energy, nullptr);
+      const double e = trial_energy.total;
       scratch_at_x = e < current;
       if (e < current) {
         x = trial;

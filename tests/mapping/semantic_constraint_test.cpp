@@ -178,6 +178,10 @@ TEST(SemanticConstraint, APartlyActivePatchLowersTheFullEnergyByWhatItReports) {
       EXPECT_EQ(patch.positions[v], before.positions[v]) << v;
     }
   }
+  // A corner vertex far from the active block has no terms kept: asking for them is refused.
+  EXPECT_THROW((void)solver.localEnergy(0, patch.positions[0].cast<double>()), std::invalid_argument);
+  EXPECT_THROW((void)solver.localGradient(200, Vector3d::Zero()), std::invalid_argument);
+  EXPECT_NO_THROW((void)solver.localEnergy(5 * 12 + 5, patch.positions[5 * 12 + 5].cast<double>()));
 }
 
 TEST(SemanticConstraint, ANoisyPlaneComesCloserToTheTruePlane) {

@@ -130,7 +130,8 @@ class ConstraintSolver {
   // that moves (constants of the solve).
   [[nodiscard]] ConstraintEnergy energy() const;
   // The part of E_total that depends on vertex v's position (what a Gauss-Seidel step lowers):
-  // E_total(x) - localEnergy(v, x) does not depend on x. Terms unweighted, total weighted.
+  // E_total(x) - localEnergy(v, x) does not depend on x. Terms unweighted, total weighted. v must be
+  // active or next to an active vertex (else std::invalid_argument), as must localGradient's.
   [[nodiscard]] ConstraintEnergy localEnergy(std::uint32_t v, const Eigen::Vector3d& x) const;
   // Analytic gradients of the three terms of localEnergy(v, x) with respect to x, unweighted.
   [[nodiscard]] std::array<Eigen::Vector3d, 3> localGradient(std::uint32_t v, const Eigen::Vector3d& x) const;
@@ -158,6 +159,7 @@ class ConstraintSolver {
   // Unnormalised normal of v (sum of its faces' area vectors), with vertex `moved` at x.
   [[nodiscard]] Eigen::Vector3d areaNormal(std::uint32_t v, std::uint32_t moved, const Eigen::Vector3d& x) const;
   void refreshNormal(std::uint32_t v);
+  void checkMovable(std::uint32_t v) const;
   // localEnergy and localGradient together (either may be null), sharing the moved normals.
   void evaluate(std::uint32_t v, const Eigen::Vector3d& x, ConstraintEnergy* energy,
                 std::array<Eigen::Vector3d, 3>* gradient) const;
