@@ -179,21 +179,33 @@ struct MovedNormals {
   std::vector<Vector3d> area;    // m
   std::vector<Vector3d> normal;  // n
   std::vector<Vector3d> adjoint;
-  std::vector<std::uint32_t> slot;   // per patch vertex: index into `vertex`
-  std::vector<std::uint64_t> stamp;  // per patch vertex: `slot` is valid when equal to `current`
-  std::uint64_t current = 0;
+  // Per patch vertex, side by side so that a lookup touches one cache line: its index into
+  // `vertex`, valid when its stamp equals `current`.
+  struct Entry {
+    std::uint32_t stamp = 0;
+    std::uint32_t slot = 0;
+  };
+  std::vector<Entry> entries;
+  std::uint32_t current = 0;
 
   void begin(std::size_t patch_size) {
-    if (stamp.size() < patch_size) {
-      stamp.assign(patch_size, 0);
-      slot.resize(patch_size);
+    if (entries.size() < patch_size) entries.resize(patch_size);
+    if (++current == 0) {  // wrapped: forget every old stamp
+      std::fill(entries.begin(), entries.end(), Entry{});
+      current = 1;
     }
-    ++current;
     vertex.clear();
     area.clear();
     normal.clear();
   }
-  [[nodiscard]] int find(std::uint32_t v) const { return stamp[v] == current ? static_cast<int>(slot[v]) : -1; }
+  void add(std::uint32_t v) {
+    entries[v] = {current, static_cast<std::uint32_t>(vertex.size())};
+    vertex.push_back(v);
+  }
+  [[nodiscard]] int find(std::uint32_t v) const {
+    const Entry& e = entries[v];
+    return e.stamp == current ? static_cast<int>(e.slot) : -1;
+  }
 };
 
 // The scratch of the calling thread (evaluate fills it; relax reads the accepted position's normals).
@@ -255,13 +267,12 @@ std::array<Vector3d, 3> ConstraintSolver::localGradient(std::uint32_t v, const V
 
 void ConstraintSolver::evaluate(std::uint32_t v, const Vector3d& x, ConstraintEnergy* energy,
                                 std::array<Vector3d, 3>* gradient) const {
-  // Stamps only grow, so an entry left by an earlier call (or an earlier patch) never matches.
+  // Stamps only grow (all are cleared when they wrap), so an entry left by an earlier call, or an
+  // earlier patch, never matches.
   MovedNormals& moved = movedScratch();
   moved.begin(x_.size());
   const auto add = [&](std::uint32_t u) {
-    moved.stamp[u] = moved.current;
-    moved.slot[u] = static_cast<std::uint32_t>(moved.vertex.size());
-    moved.vertex.push_back(u);
+    moved.add(u);
     moved.area.push_back(area_normals_[u]);
   };
   add(v);
