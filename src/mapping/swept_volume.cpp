@@ -23,7 +23,7 @@ void SweptVolume::add(const Isometry3d& T_W_L) {
   if (!enabled()) return;
   const Isometry3d T_L_W = T_W_L.inverse();
   const Eigen::Vector3d t = T_W_L.translation();
-  if (!t.allFinite()) return;
+  if (!t.allFinite() || !(t.cwiseAbs().maxCoeff() < 1e6)) return;  // a broken pose: as the voxel map refuses
   const auto ix = static_cast<std::int32_t>(std::floor(static_cast<float>(t.x()) / cell_m_));
   const auto iy = static_cast<std::int32_t>(std::floor(static_cast<float>(t.y()) / cell_m_));
   cells_[cellOf(static_cast<float>(t.x()), static_cast<float>(t.y()))].push_back(
@@ -66,7 +66,8 @@ void SweptVolume::focus(const Eigen::Vector3f& centre_W, float radius) {
 }
 
 bool SweptVolume::contains(const Eigen::Vector3f& p_W) const {
-  if (poses_.empty() || !p_W.allFinite()) return false;
+  // Points beyond 1000 km (which the voxel map refuses) stay clear of the cell arithmetic.
+  if (poses_.empty() || !p_W.allFinite() || !(p_W.cwiseAbs().maxCoeff() < 1e6f)) return false;
   const auto ix = static_cast<std::int32_t>(std::floor(p_W.x() / cell_m_));
   const auto iy = static_cast<std::int32_t>(std::floor(p_W.y() / cell_m_));
   if (ix >= ix0_ && iy >= iy0_ && ix < ix0_ + n_ && iy < iy0_ + n_) {

@@ -43,7 +43,9 @@ TEST(SweptVolume, HoldsWhatTheBoxCoveredAtSomePose) {
     EXPECT_FALSE(volume.contains({11.2f, 6.0f, -1.0f})) << focused;
     EXPECT_FALSE(volume.contains({10.0f, 7.2f, -1.0f})) << focused;
     EXPECT_FALSE(volume.contains({NAN, 0.0f, -1.0f})) << focused;
+    EXPECT_FALSE(volume.contains({3e9f, 0.0f, -1.0f})) << focused;
   }
+  volume.add(poseAt(5e9, 0.0, 0.0));  // a broken pose is not kept
   EXPECT_EQ(volume.poses(), 12u);
 
   SweptVolume off{Eigen::AlignedBox3f()};
