@@ -68,14 +68,17 @@ FrameStats Mapper::integrate(const PointCloud& points_L, const Isometry3d& T_W_L
   const Eigen::Vector3f t = T_W_L.translation().cast<float>();
   std::vector<Eigen::Vector3f>& points_W = points_W_;  // reused: no fresh pages every frame
   points_W.resize(points_L.size());
-  for (std::size_t i = 0; i < points_L.size(); ++i) points_W[i] = R * points_L.points[i] + t;
+  float reach = 0.0f;  // horizontal extent of the scan around the sensor (squared, then not)
+  for (std::size_t i = 0; i < points_L.size(); ++i) {
+    const Eigen::Vector3f& p = points_L.points[i];
+    points_W[i] = R * p + t;
+    const float r2 = p.head<2>().squaredNorm();
+    if (r2 > reach) reach = r2;  // NaN compares false
+  }
+  reach = std::sqrt(reach);
   const std::vector<std::uint8_t>* drop = nullptr;
   if (swept_.enabled()) {
     swept_.add(T_W_L);
-    float reach = 0.0f;  // horizontal extent of the scan around the sensor
-    for (const Eigen::Vector3f& p : points_L.points) {
-      if (p.allFinite()) reach = std::max(reach, p.head<2>().norm());
-    }
     swept_.focus(t, std::min(reach, 1000.0f));
     drop_.assign(points_W.size(), 0);
     arena_->arena.execute([&] {

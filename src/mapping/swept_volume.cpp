@@ -13,9 +13,11 @@ SweptVolume::SweptVolume(const Eigen::AlignedBox3f& box_L) : box_(box_L) {
   cell_m_ = std::max(reach, 0.5f);
 }
 
-SweptVolume::Cell SweptVolume::cellOf(float x, float y) const {
-  const auto ix = static_cast<std::int32_t>(std::floor(x / cell_m_));
-  const auto iy = static_cast<std::int32_t>(std::floor(y / cell_m_));
+std::int32_t SweptVolume::cellIndex(float coordinate) const {
+  return static_cast<std::int32_t>(std::floor(coordinate / cell_m_));
+}
+
+SweptVolume::Cell SweptVolume::key(std::int32_t ix, std::int32_t iy) {
   return (static_cast<Cell>(static_cast<std::uint32_t>(ix)) << 32) | static_cast<std::uint32_t>(iy);
 }
 
@@ -24,10 +26,9 @@ void SweptVolume::add(const Isometry3d& T_W_L) {
   const Isometry3d T_L_W = T_W_L.inverse();
   const Eigen::Vector3d t = T_W_L.translation();
   if (!t.allFinite() || !(t.cwiseAbs().maxCoeff() < 1e6)) return;  // a broken pose: as the voxel map refuses
-  const auto ix = static_cast<std::int32_t>(std::floor(static_cast<float>(t.x()) / cell_m_));
-  const auto iy = static_cast<std::int32_t>(std::floor(static_cast<float>(t.y()) / cell_m_));
-  cells_[cellOf(static_cast<float>(t.x()), static_cast<float>(t.y()))].push_back(
-      static_cast<std::uint32_t>(poses_.size()));
+  const std::int32_t ix = cellIndex(static_cast<float>(t.x()));
+  const std::int32_t iy = cellIndex(static_cast<float>(t.y()));
+  cells_[key(ix, iy)].push_back(static_cast<std::uint32_t>(poses_.size()));
   origin_cells_.emplace_back(ix, iy);
   poses_.push_back({T_L_W.linear().cast<float>(), T_L_W.translation().cast<float>()});
 }
@@ -37,8 +38,8 @@ void SweptVolume::focus(const Eigen::Vector3f& centre_W, float radius) {
   window_offsets_.clear();
   window_poses_.clear();
   if (poses_.empty() || !centre_W.allFinite() || !(radius > 0.0f) || !(radius < 1e5f)) return;
-  ix0_ = static_cast<std::int32_t>(std::floor((centre_W.x() - radius) / cell_m_));
-  iy0_ = static_cast<std::int32_t>(std::floor((centre_W.y() - radius) / cell_m_));
+  ix0_ = cellIndex(centre_W.x() - radius);
+  iy0_ = cellIndex(centre_W.y() - radius);
   n_ = static_cast<std::int32_t>(std::ceil(2.0f * radius / cell_m_)) + 2;
   const auto cells = static_cast<std::size_t>(n_) * static_cast<std::size_t>(n_);
   window_offsets_.assign(cells + 1, 0);
@@ -68,8 +69,8 @@ void SweptVolume::focus(const Eigen::Vector3f& centre_W, float radius) {
 bool SweptVolume::contains(const Eigen::Vector3f& p_W) const {
   // Points beyond 1000 km (which the voxel map refuses) stay clear of the cell arithmetic.
   if (poses_.empty() || !p_W.allFinite() || !(p_W.cwiseAbs().maxCoeff() < 1e6f)) return false;
-  const auto ix = static_cast<std::int32_t>(std::floor(p_W.x() / cell_m_));
-  const auto iy = static_cast<std::int32_t>(std::floor(p_W.y() / cell_m_));
+  const std::int32_t ix = cellIndex(p_W.x());
+  const std::int32_t iy = cellIndex(p_W.y());
   if (ix >= ix0_ && iy >= iy0_ && ix < ix0_ + n_ && iy < iy0_ + n_) {
     const auto cell = static_cast<std::size_t>((ix - ix0_) * n_ + (iy - iy0_));
     for (std::uint32_t k = window_offsets_[cell]; k < window_offsets_[cell + 1]; ++k) {
@@ -80,9 +81,7 @@ bool SweptVolume::contains(const Eigen::Vector3f& p_W) const {
   }
   for (std::int32_t dx = -1; dx <= 1; ++dx) {
     for (std::int32_t dy = -1; dy <= 1; ++dy) {
-      const Cell cell = (static_cast<Cell>(static_cast<std::uint32_t>(ix + dx)) << 32) |
-                        static_cast<std::uint32_t>(iy + dy);
-      const auto it = cells_.find(cell);
+      const auto it = cells_.find(key(ix + dx, iy + dy));
       if (it == cells_.end()) continue;
       for (const std::uint32_t k : it->second) {
         const Pose& pose = poses_[k];

@@ -42,7 +42,8 @@ class SweptVolume {
     Eigen::Vector3f t_L_W;
   };
   using Cell = std::uint64_t;
-  [[nodiscard]] Cell cellOf(float x, float y) const;
+  [[nodiscard]] std::int32_t cellIndex(float coordinate) const;  // along x or y
+  static Cell key(std::int32_t ix, std::int32_t iy);
 
   Eigen::AlignedBox3f box_;
   float cell_m_ = 1.0f;
