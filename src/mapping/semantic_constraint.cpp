@@ -75,24 +75,36 @@ ConstraintSolver::ConstraintSolver(const SemanticConstraintParams& params, Const
   neighbour_offsets_.assign(n + 1, 0);
   const std::size_t slots = patch.slots;
   tbb::parallel_for(tbb::blocked_range<std::uint32_t>(0, static_cast<std::uint32_t>(n), 256), [&](const auto& range) {
+    // Each neighbour once (a fan names most of them twice): marked with a number no earlier
+    // vertex, or patch, used on this thread; then only the distinct ones are sorted.
     thread_local std::vector<std::uint32_t> around;
+    thread_local std::vector<std::uint64_t> seen;
+    thread_local std::uint64_t mark = 0;
+    if (seen.size() < n) seen.resize(n, 0);
     for (std::uint32_t v = range.begin(); v < range.end(); ++v) {
       if (needs[v] == 0) continue;
       around.clear();
+      ++mark;
       for (std::uint32_t k = face_offsets_[v]; k < face_offsets_[v + 1]; ++k) {
         for (const std::uint32_t u : patch.faces[vertex_faces_[k]]) {
-          if (u != v) around.push_back(u);
+          if (u != v && seen[u] != mark) {
+            seen[u] = mark;
+            around.push_back(u);
+          }
         }
       }
       std::sort(around.begin(), around.end());
-      around.erase(std::unique(around.begin(), around.end()), around.end());
       neighbour_offsets_[v + 1] = static_cast<std::uint32_t>(around.size());
       const float* p = &patch.distributions[v * slots];
       for (std::size_t i = 0; i < around.size(); ++i) {
         const std::uint32_t u = around[i];
         const float* q = &patch.distributions[u * slots];
         // Equal distributions (both never observed, or one voxel's prior) are common: JS 0, sim 1.
-        const double js = std::equal(p, p + slots, q) ? 0.0 : jensenShannon(p, q, slots);
+        if (std::equal(p, p + slots, q)) {
+          gathered[room[v] + i] = {u, 1.0f, 0.0f};
+          continue;
+        }
+        const double js = jensenShannon(p, q, slots);
         gathered[room[v] + i] = {u, static_cast<float>(semanticSimilarity(js, params.temperature)),
                                  static_cast<float>(static_cast<double>(patch.confidence[v]) * patch.confidence[u] * js)};
       }
@@ -140,7 +152,7 @@ ConstraintSolver::ConstraintSolver(const SemanticConstraintParams& params, Const
     for (std::uint32_t v = 0; v < n; ++v) {
       if (patch.active[v] != 0) order.push_back({patch.colour[v], patch.block[v], v});
     }
-    std::sort(order.begin(), order.end(), [](const Slot& a, const Slot& b) {
+    tbb::parallel_sort(order.begin(), order.end(), [](const Slot& a, const Slot& b) {
       return a.colour != b.colour ? a.colour < b.colour : a.block != b.block ? a.block < b.block : a.vertex < b.vertex;
     });
     for (std::size_t i = 0; i < order.size(); ++i) {
@@ -222,21 +234,33 @@ Vector3d unit(const Vector3d& m) {
 }  // namespace
 
 ConstraintEnergy ConstraintSolver::energy() const {
-  ConstraintEnergy e;
+  // Per fixed range of vertices in parallel, then the ranges in order: the same sum on any thread
+  // count.
+  constexpr std::size_t kRange = 2048;
   const std::size_t n = patch_.positions.size();
-  for (std::size_t v = 0; v < n; ++v) {
-    const double d =
-        patch_.plane_normals[v].cast<double>().dot(x_[v] - patch_.measured[v].cast<double>());
-    e.geometry += d * d;
-    for (std::uint32_t k = neighbour_offsets_[v]; k < neighbour_offsets_[v + 1]; ++k) {
-      const Neighbour& nb = neighbours_[k];
-      // Each edge once: from its lower end, or from the end with neighbours when only one has them.
-      if (nb.vertex < v && neighbour_offsets_[nb.vertex + 1] > neighbour_offsets_[nb.vertex]) continue;
-      const double length = (x_[v] - x_[nb.vertex]).norm();
-      if (!(length > 0.0)) continue;
-      e.semantic += nb.semantic / length;
-      e.smoothness += nb.similarity / length * (normals_[v] - normals_[nb.vertex]).squaredNorm();
+  std::vector<ConstraintEnergy> parts((n + kRange - 1) / kRange);
+  tbb::parallel_for(std::size_t{0}, parts.size(), [&](std::size_t r) {
+    ConstraintEnergy& e = parts[r];
+    for (std::size_t v = r * kRange; v < std::min(n, (r + 1) * kRange); ++v) {
+      const double d =
+          patch_.plane_normals[v].cast<double>().dot(x_[v] - patch_.measured[v].cast<double>());
+      e.geometry += d * d;
+      for (std::uint32_t k = neighbour_offsets_[v]; k < neighbour_offsets_[v + 1]; ++k) {
+        const Neighbour& nb = neighbours_[k];
+        // Each edge once: from its lower end, or from the end with neighbours when only one has them.
+        if (nb.vertex < v && neighbour_offsets_[nb.vertex + 1] > neighbour_offsets_[nb.vertex]) continue;
+        const double length = (x_[v] - x_[nb.vertex]).norm();
+        if (!(length > 0.0)) continue;
+        e.semantic += nb.semantic / length;
+        e.smoothness += nb.similarity / length * (normals_[v] - normals_[nb.vertex]).squaredNorm();
+      }
     }
+  });
+  ConstraintEnergy e;
+  for (const ConstraintEnergy& part : parts) {
+    e.geometry += part.geometry;
+    e.semantic += part.semantic;
+    e.smoothness += part.smoothness;
   }
   e.total = e.geometry + params_.lambda_sem * e.semantic + params_.lambda_smooth * e.smoothness;
   return e;
