@@ -200,6 +200,7 @@ nlohmann::ordered_json configJson(const RunFlags& f, const std::string& dataset_
           {"texture",
            {{"on", f.params.texture},
             {"holdout", f.params.texture_holdout},
+            {"delay_frames", f.params.texture_delay},
             {"reliability", m.refinement.reliability},
             {"sigma_photo", m.refinement.sigma_photo},
             {"sigma_geom", m.refinement.sigma_geom},
@@ -506,6 +507,11 @@ void addRunCommand(CLI::App& app, int& exit_code) {
                   "Leave every N-th frame's image out of texturing (for artemis eval texture); 0: none")
       ->capture_default_str()
       ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--texture-delay", flags->params.texture_delay,
+                  "Refine each frame's image this many frames after its scan was mapped, once later scans have "
+                  "meshed the ground and walls in front of the camera (0: at once)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 100));
   auto& rp = m.refinement;
   cmd->add_flag(
       "--no-reliability", [&rp](std::int64_t) { rp.reliability = false; },

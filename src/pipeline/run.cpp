@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <deque>
 #include <future>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -227,6 +228,32 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
     }
   };
 
+  // Stage 2's views waiting for later scans (RunParams::texture_delay), oldest first.
+  struct DelayedView {
+    Frame frame;
+    std::size_t camera = 0;  // into frame.cameras
+    semantics::SemanticObservation observation;
+    bool texture = false;
+    bool semantics = false;
+    Isometry3d T_W_L = Isometry3d::Identity();
+  };
+  std::deque<DelayedView> delayed;
+  const auto refineView = [&](const DelayedView& d) {
+    Stopwatch refine_clock;
+    const mapping::RefinementInput input{&d.frame.cameras[d.camera], d.texture, d.semantics ? &d.observation : nullptr,
+                                         &d.frame.points_L};
+    const mapping::RefinementStats r = mapper.refine(input, d.T_W_L);
+    report.times.add("refine", refine_clock.elapsedMs());
+    report.frames_textured += d.texture ? 1 : 0;
+    report.frames_semantic_refined += d.semantics ? 1 : 0;
+    log::debug(
+        "frame {}: refinement: {} voxels in view, {} faces rendered, {} vertices in view, {} coloured, {} "
+        "labelled, gain {:.3f}; cull {:.1f} ms, depth {:.1f} ms, fuse {:.1f} ms",
+        d.frame.index, r.voxels_in_view, r.faces_rendered, r.vertices_in_view, r.vertices_updated, r.vertices_labelled,
+        r.gain, r.cull_ms, r.depth_ms, r.fuse_ms);
+    return r;
+  };
+
   std::string trajectory;
   std::optional<Isometry3d> last_T;  // pose of the last mapped frame
   std::size_t last_i = 0;
@@ -258,6 +285,8 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
       continue;
     }
     Isometry3d T_W_L = prior;
+    const std::size_t frame_index = frame->index;  // the frame may move into the delayed views
+    const double frame_stamp_s = frame->stamp_s;
     if (odometry || params.deskew) {
       Stopwatch register_clock;
       if (params.deskew && last_T) {
@@ -355,34 +384,31 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
       texture = !held_out;
     }
     const bool refine_semantics = observation.observed && params.mapper.refinement.semantic_refinement;
+    // The view waits texture_delay frames (see RunParams): it is refined once later scans have
+    // meshed what it saw.
     std::optional<mapping::RefinementStats> refined;
     if (view != nullptr && view->hasImage() && (texture || refine_semantics)) {
-      Stopwatch refine_clock;
-      const mapping::RefinementInput input{view, texture, refine_semantics ? &observation : nullptr, &frame->points_L};
-      const mapping::RefinementStats& r = refined.emplace(mapper.refine(input, T_W_L));
-      report.times.add("refine", refine_clock.elapsedMs());
-      report.frames_textured += texture ? 1 : 0;
-      report.frames_semantic_refined += refine_semantics ? 1 : 0;
-      log::debug(
-          "frame {}: refinement: {} voxels in view, {} faces rendered, {} vertices in view, {} coloured, {} "
-          "labelled, gain {:.3f}; cull {:.1f} ms, depth {:.1f} ms, fuse {:.1f} ms",
-          frame->index, r.voxels_in_view, r.faces_rendered, r.vertices_in_view, r.vertices_updated, r.vertices_labelled,
-          r.gain, r.cull_ms, r.depth_ms, r.fuse_ms);
+      const auto camera = static_cast<std::size_t>(view - frame->cameras.data());
+      delayed.push_back({std::move(*frame), camera, std::move(observation), texture, refine_semantics, T_W_L});
+    }
+    if (delayed.size() > static_cast<std::size_t>(params.texture_delay)) {
+      refined.emplace(refineView(delayed.front()));
+      delayed.pop_front();
     }
     report.times.add("total", frame_clock.elapsedMs() - segment_ms);
     trajectory += formatRowMajor3x4(T_W_L) + "\n";
     last_T = T_W_L;
     last_i = i;
-    last_stamp_s = frame->stamp_s;
+    last_stamp_s = frame_stamp_s;
     ++report.frames;
     log::debug(
         "frame {}: {} points, {} kept, {} active voxels, {} meshed, insert {:.1f} ms, mesh {:.1f} ms, constrain {:.1f} "
         "ms ({} of {} patch vertices; patch {:.1f}, build {:.1f}, solve {:.1f} ms; {} faces cut)",
-        frame->index, stats.points, stats.points_kept, stats.active_voxels, stats.meshed_voxels, stats.insert_ms,
+        frame_index, stats.points, stats.points_kept, stats.active_voxels, stats.meshed_voxels, stats.insert_ms,
         stats.mesh_ms, stats.constrain_ms, stats.constraint.active_vertices, stats.constraint.patch_vertices,
         stats.constraint.patch_ms, stats.constraint.build_ms, stats.constraint.solve_ms, stats.faces_cut);
     if (params.observer) {
-      params.observer({mapper, i + 1, total, frame->index, T_W_L, refined ? &*refined : nullptr, report.times, false});
+      params.observer({mapper, i + 1, total, frame_index, T_W_L, refined ? &*refined : nullptr, report.times, false});
     }
     if (progress) progress(i + 1, total);
   }
@@ -390,9 +416,15 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
   Stopwatch finish_clock;
   mapper.finish();
   report.finish_ms = finish_clock.elapsedMs();
+  // The views still waiting, against the final mesh; the observer hears of all they looked at.
+  mapping::RefinementStats flushed;
+  for (; !delayed.empty(); delayed.pop_front()) {
+    const mapping::RefinementStats r = refineView(delayed.front());
+    flushed.voxels.insert(flushed.voxels.end(), r.voxels.begin(), r.voxels.end());
+  }
   if (params.observer) {
     params.observer({mapper, total, total, dataset.firstIndex() + total - 1, last_T.value_or(Isometry3d::Identity()),
-                     nullptr, report.times, true});
+                     flushed.voxels.empty() ? nullptr : &flushed, report.times, true});
   }
   if (const std::size_t refused = mapper.voxels().rejectedPoints(); refused > 0) {
     log::warn("{} points more than 1000 km from the origin were refused (broken poses?)", refused);

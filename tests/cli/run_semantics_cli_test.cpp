@@ -7,6 +7,8 @@
 #include <algorithm>
 #include <fstream>
 #include <nlohmann/json.hpp>
+#include <string>
+#include <vector>
 
 #include "artemis/io/ply.hpp"
 #include "artemis/io/png.hpp"
@@ -208,6 +210,43 @@ TEST(RunTexture, ColoursTheMeshAndHoldsOutFrames) {
   EXPECT_FALSE(plain->scalarAs<int>("vertex", "red"));
   const auto bad = runCli("run " + sim.string() + " --texture maybe --out " + (tmp / "bad").string());
   EXPECT_NE(bad.exit_code, 0);
+}
+
+// A view refined after later scans colours the mesh those scans added in front of the camera; each
+// view is still refined once, and views still waiting at the end are refined against the final mesh.
+TEST(RunTexture, DelayedViewsColourWhatLaterScansMeshed) {
+  test::TempDir tmp;
+  const fs::path sim = simulate(tmp);
+  const auto coloured = [](const fs::path& mesh) {
+    auto ply = io::readPly(mesh);
+    EXPECT_TRUE(ply);
+    auto red = ply->scalarAs<int>("vertex", "red");
+    auto green = ply->scalarAs<int>("vertex", "green");
+    auto blue = ply->scalarAs<int>("vertex", "blue");
+    EXPECT_TRUE(red && green && blue);
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < red->size(); ++i) {
+      n += ((*red)[i] != 128 || (*green)[i] != 128 || (*blue)[i] != 128) ? 1 : 0;
+    }
+    return n;
+  };
+  std::vector<std::size_t> counts;
+  for (const int delay : {0, 2, 10}) {
+    const fs::path out = tmp / fmt::format("d{}", delay);
+    const auto r = runCli(fmt::format("run {} --texture-delay {} --out {}", sim.string(), delay, out.string()));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_NE(r.out.find("texture: 4 frames refined"), std::string::npos) << r.out;
+    EXPECT_EQ(readJson(out / "config.json")["texture"]["delay_frames"], delay);
+    counts.push_back(coloured(out / "mesh.ply"));
+  }
+  // 10 frames of delay on 4 frames: every view waits for the final meshing.
+  EXPECT_GT(counts[1], counts[0] + counts[0] / 20) << counts[0] << " " << counts[1];
+  EXPECT_GE(counts[2], counts[1]) << counts[1] << " " << counts[2];
+  for (const char* bad : {"-1", "101", "x"}) {
+    const auto r = runCli("run " + sim.string() + " --texture-delay " + bad + " --out " + (tmp / "bad").string());
+    EXPECT_NE(r.exit_code, 0) << bad;
+    EXPECT_NE(r.err.find("--texture-delay"), std::string::npos) << r.err;
+  }
 }
 
 }  // namespace
