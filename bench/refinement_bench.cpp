@@ -102,8 +102,8 @@ int main(int argc, char** argv) {
   while (!waiting.empty()) refineOldest();
   const auto s1 = bench::percentiles(stage1);
   const auto r = bench::percentiles(refine);
-  fmt::print("simulated street, {} frames, {} threads, views refined {} frames late, {} vertices at the end\n",
-             frames, threads == 0 ? std::string("all") : std::to_string(threads), delay, mapper.mesh().vertexCount());
+  fmt::print("simulated street, {} frames, {} threads, views refined {} frames late, {} vertices at the end\n", frames,
+             threads == 0 ? std::string("all") : std::to_string(threads), delay, mapper.mesh().vertexCount());
   fmt::print("stage 1 (insert, fusion, meshing) per frame: {:.2f} / {:.2f} ms (median / p95)\n", s1.median, s1.p95);
   fmt::print("stage 2 refinement (texture + semantics) per frame: {:.2f} / {:.2f} ms (median / p95)\n", r.median,
              r.p95);
