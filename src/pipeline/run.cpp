@@ -199,6 +199,9 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
   RunReport report;
   mapping::Mapper mapper(params.mapper);
   const bool recording_poses = params.use_recording_poses && dataset.hasPoses();
+  if (params.texture_delay < 0) {
+    return invalidArgument(fmt::format("texture_delay must be 0 or more frames, not {}", params.texture_delay));
+  }
   if (!params.pose_refinement && !recording_poses) {
     return invalidArgument(
         "without the recording's poses, pose refinement must be on (it is the only source of poses)");
@@ -236,6 +239,7 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
     bool texture = false;
     bool semantics = false;
     Isometry3d T_W_L = Isometry3d::Identity();
+    std::size_t i = 0;  // its place in the range
   };
   std::deque<DelayedView> delayed;
   const auto refineView = [&](const DelayedView& d) {
@@ -389,11 +393,15 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
     std::optional<mapping::RefinementStats> refined;
     if (view != nullptr && view->hasImage() && (texture || refine_semantics)) {
       const auto camera = static_cast<std::size_t>(view - frame->cameras.data());
-      delayed.push_back({std::move(*frame), camera, std::move(observation), texture, refine_semantics, T_W_L});
+      delayed.push_back({std::move(*frame), camera, std::move(observation), texture, refine_semantics, T_W_L, i});
     }
-    if (delayed.size() > static_cast<std::size_t>(params.texture_delay)) {
-      refined.emplace(refineView(delayed.front()));
+    // The views now due (one a frame, more after an unreadable frame); the observer hears of all
+    // they looked at.
+    while (!delayed.empty() && delayed.front().i + static_cast<std::size_t>(params.texture_delay) <= i) {
+      mapping::RefinementStats r = refineView(delayed.front());
       delayed.pop_front();
+      if (refined) r.voxels.insert(r.voxels.begin(), refined->voxels.begin(), refined->voxels.end());
+      refined = std::move(r);
     }
     report.times.add("total", frame_clock.elapsedMs() - segment_ms);
     trajectory += formatRowMajor3x4(T_W_L) + "\n";

@@ -108,6 +108,17 @@ TEST(RunPipeline, DamagedScanIsSkippedAndCounted) {
   EXPECT_EQ(timing["frames_failed"], 1);
 }
 
+TEST(RunPipeline, NegativeTextureDelayIsAnError) {
+  auto dataset = datasets::openDataset(recording(), datasets::DatasetFormat::kAuto, noImages());
+  ASSERT_TRUE(dataset);
+  pipeline::RunParams params;
+  params.texture_delay = -1;
+  test::TempDir out;
+  auto report = pipeline::runPipeline(**dataset, params, out.path(), "{}\n");
+  ASSERT_FALSE(report);
+  EXPECT_NE(report.status().message().find("texture_delay"), std::string::npos) << report.status().toString();
+}
+
 // The simulated recording's poses withheld: registration alone must find them.
 TEST(RunPipeline, RefinementWithoutPosesRecoversTheTrajectory) {
   auto dataset = datasets::openDataset(recording(), datasets::DatasetFormat::kAuto, noImages());
