@@ -79,10 +79,10 @@ struct RunParams {
   // meshing): the LiDAR meshes the ground and walls in front of the camera only as the vehicle
   // nears them, so a view refined at once misses much of what it shows, and the final mesh keeps
   // them uncoloured. Each view is still refined once; it waits with its scan, image and masks
-  // (about 4 MB a frame at KITTI's size). Held-out PSNR (every 5th view) at 0 / 3 / 5 / 8 / 10 /
-  // 15 / 30 frames: simulated street (200 frames) 19.01 / 19.86 / 20.24 / 20.53 / 20.64 / 20.78 /
-  // 20.74 dB; KITTI drive 0013 (frames 0-49) at 0 / 5 / 10 / 15: 12.75 / 13.05 / 13.13 / 13.18 dB,
-  // while refinement's median grows 12.4 / 18.0 / 23.1 / 29.0 ms there (it sees more mesh).
+  // (about 4 MB a frame at KITTI's size). Held-out PSNR (every 5th view) at 0 / 5 / 10 / 15 frames:
+  // simulated street (200 frames) 19.01 / 20.06 / 20.53 / 20.73 dB; KITTI drive 0013 (frames 0-49)
+  // 12.75 / 12.97 / 13.10 / 13.18 dB, while refinement's median there grows 12.3 / 16.6 / 22.0 /
+  // 26.2 ms (a view sees more mesh): 10 is the longest delay within 25 ms a frame.
   int texture_delay = 10;
   FrameObserver observer;  // optional
 };
