@@ -191,6 +191,9 @@ std::string semanticsJson(const RunReport& report, const RunParams& params) {
 
 Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& params, const fs::path& out,
                               const std::string& config_json, const ProgressFn& progress) {
+  if (params.texture_delay < 0) {
+    return invalidArgument(fmt::format("texture_delay must be 0 or more frames, not {}", params.texture_delay));
+  }
   std::error_code ec;
   fs::create_directories(out, ec);
   if (ec) return ioError(fmt::format("{}: cannot create folder: {}", out.string(), ec.message()));
@@ -199,9 +202,6 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
   RunReport report;
   mapping::Mapper mapper(params.mapper);
   const bool recording_poses = params.use_recording_poses && dataset.hasPoses();
-  if (params.texture_delay < 0) {
-    return invalidArgument(fmt::format("texture_delay must be 0 or more frames, not {}", params.texture_delay));
-  }
   if (!params.pose_refinement && !recording_poses) {
     return invalidArgument(
         "without the recording's poses, pose refinement must be on (it is the only source of poses)");
@@ -373,10 +373,11 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
     report.faces_cut += stats.faces_cut;
     report.points_in_vehicle_path += stats.points_in_vehicle_path;
     if (stats.points > 0 && stats.points_in_vehicle_path * 20 > stats.points && !warned_vehicle_box) {
-      log::warn("frame {}: {} of {} returns lie inside the vehicle's box at this or an earlier pose and were dropped; "
-                "if that is more than the vehicle itself and what follows it, the box does not fit this rig "
-                "(artemis run --vehicle-box)",
-                frame->index, stats.points_in_vehicle_path, stats.points);
+      log::warn(
+          "frame {}: {} of {} returns lie inside the vehicle's box at this or an earlier pose and were dropped; "
+          "if that is more than the vehicle itself and what follows it, the box does not fit this rig "
+          "(artemis run --vehicle-box)",
+          frame->index, stats.points_in_vehicle_path, stats.points);
       warned_vehicle_box = true;
     }
     // Stage 2: colours (unless the frame is held out of texturing) and classes (when segmented).

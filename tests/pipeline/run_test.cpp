@@ -117,6 +117,7 @@ TEST(RunPipeline, NegativeTextureDelayIsAnError) {
   auto report = pipeline::runPipeline(**dataset, params, out.path(), "{}\n");
   ASSERT_FALSE(report);
   EXPECT_NE(report.status().message().find("texture_delay"), std::string::npos) << report.status().toString();
+  EXPECT_FALSE(fs::exists(out / "config.json"));  // refused before anything is written
 }
 
 // The simulated recording's poses withheld: registration alone must find them.
