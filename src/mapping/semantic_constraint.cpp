@@ -70,7 +70,9 @@ ConstraintSolver::ConstraintSolver(const SemanticConstraintParams& params, Const
     }
   }
   std::vector<std::uint32_t> room(n + 1, 0);
-  for (std::size_t v = 0; v < n; ++v) room[v + 1] = room[v] + (needs[v] != 0 ? 2 * (face_offsets_[v + 1] - face_offsets_[v]) : 0);
+  for (std::size_t v = 0; v < n; ++v) {
+    room[v + 1] = room[v] + (needs[v] != 0 ? 2 * (face_offsets_[v + 1] - face_offsets_[v]) : 0);
+  }
   std::vector<Neighbour> gathered(room[n]);
   neighbour_offsets_.assign(n + 1, 0);
   const std::size_t slots = patch.slots;
@@ -105,8 +107,9 @@ ConstraintSolver::ConstraintSolver(const SemanticConstraintParams& params, Const
           continue;
         }
         const double js = jensenShannon(p, q, slots);
-        gathered[room[v] + i] = {u, static_cast<float>(semanticSimilarity(js, params.temperature)),
-                                 static_cast<float>(static_cast<double>(patch.confidence[v]) * patch.confidence[u] * js)};
+        gathered[room[v] + i] = {
+            u, static_cast<float>(semanticSimilarity(js, params.temperature)),
+            static_cast<float>(static_cast<double>(patch.confidence[v]) * patch.confidence[u] * js)};
       }
     }
   });
@@ -163,7 +166,6 @@ ConstraintSolver::ConstraintSolver(const SemanticConstraintParams& params, Const
     }
   }
 }
-
 
 Vector3d ConstraintSolver::areaNormal(std::uint32_t v, std::uint32_t moved, const Vector3d& x) const {
   Vector3d m = Vector3d::Zero();
@@ -242,8 +244,7 @@ ConstraintEnergy ConstraintSolver::energy() const {
   tbb::parallel_for(std::size_t{0}, parts.size(), [&](std::size_t r) {
     ConstraintEnergy& e = parts[r];
     for (std::size_t v = r * kRange; v < std::min(n, (r + 1) * kRange); ++v) {
-      const double d =
-          patch_.plane_normals[v].cast<double>().dot(x_[v] - patch_.measured[v].cast<double>());
+      const double d = patch_.plane_normals[v].cast<double>().dot(x_[v] - patch_.measured[v].cast<double>());
       e.geometry += d * d;
       for (std::uint32_t k = neighbour_offsets_[v]; k < neighbour_offsets_[v + 1]; ++k) {
         const Neighbour& nb = neighbours_[k];
@@ -269,7 +270,8 @@ ConstraintEnergy ConstraintSolver::energy() const {
 void ConstraintSolver::checkMovable(std::uint32_t v) const {
   // A vertex with faces but no neighbour list is neither active nor next to an active vertex: the
   // solver kept nothing to evaluate its terms with.
-  if (v >= x_.size() || (neighbour_offsets_[v + 1] == neighbour_offsets_[v] && face_offsets_[v + 1] > face_offsets_[v])) {
+  if (v >= x_.size() ||
+      (neighbour_offsets_[v + 1] == neighbour_offsets_[v] && face_offsets_[v + 1] > face_offsets_[v])) {
     throw std::invalid_argument("ConstraintSolver: vertex " + std::to_string(v) +
                                 " is out of range, or neither active nor next to an active vertex");
   }
@@ -460,7 +462,9 @@ double ConstraintSolver::relax(std::uint32_t v) {
     }
   } else {
     refreshNormal(v);
-    for (std::uint32_t k = neighbour_offsets_[v]; k < neighbour_offsets_[v + 1]; ++k) refreshNormal(neighbours_[k].vertex);
+    for (std::uint32_t k = neighbour_offsets_[v]; k < neighbour_offsets_[v + 1]; ++k) {
+      refreshNormal(neighbours_[k].vertex);
+    }
   }
   for (std::uint32_t k = neighbour_offsets_[v]; k < neighbour_offsets_[v + 1]; ++k) {
     const std::uint32_t u = neighbours_[k].vertex;
@@ -468,7 +472,8 @@ double ConstraintSolver::relax(std::uint32_t v) {
     // The same edge in u's list (sorted by vertex; u neighbours an active vertex, so it has one).
     const auto first = neighbours_.begin() + neighbour_offsets_[u];
     const auto last = neighbours_.begin() + neighbour_offsets_[u + 1];
-    const auto back = std::lower_bound(first, last, v, [](const Neighbour& nb, std::uint32_t w) { return nb.vertex < w; });
+    const auto back =
+        std::lower_bound(first, last, v, [](const Neighbour& nb, std::uint32_t w) { return nb.vertex < w; });
     if (back != last && back->vertex == v) lengths_[static_cast<std::size_t>(back - neighbours_.begin())] = lengths_[k];
   }
   return start - current;
@@ -504,8 +509,9 @@ SemanticConstraint::SemanticConstraint(const SemanticConstraintParams& params, d
     : params_(params), confidence_lambda_(confidence_lambda) {
   const auto ok = [](double value) { return std::isfinite(value) && value >= 0.0; };
   if (!ok(params.lambda_sem) || !ok(params.lambda_smooth) || !ok(params.temperature) || !ok(params.tolerance) ||
-      !ok(params.max_offset_m) || !ok(params.min_step_m) || !(params.max_step_m > 0.0) || !ok(params.max_step_m) || !ok(params.cut_similarity) ||
-      !ok(params.cut_depth_gap_m) || params.max_sweeps < 1 || params.steps < 1 || !(confidence_lambda > 0.0)) {
+      !ok(params.max_offset_m) || !ok(params.min_step_m) || !(params.max_step_m > 0.0) || !ok(params.max_step_m) ||
+      !ok(params.cut_similarity) || !ok(params.cut_depth_gap_m) || params.max_sweeps < 1 || params.steps < 1 ||
+      !(confidence_lambda > 0.0)) {
     throw std::invalid_argument(
         "semantic constraint: lambda_sem, lambda_smooth, temperature, tolerance, max_offset_m, cut_similarity and "
         "cut_depth_gap_m must be finite and >= 0, max_step_m and the confidence lambda > 0, sweeps and steps >= 1");
@@ -592,12 +598,14 @@ ConstraintStats SemanticConstraint::apply(const VoxelMap& map, SemanticMesh& mes
     std::vector<Face> selected(offset.back());
     tbb::parallel_for(tbb::blocked_range<std::size_t>(0, lists.size(), 64), [&](const auto& range) {
       for (std::size_t k = range.begin(); k < range.end(); ++k) {
-        std::copy_if(lists[k]->begin(), lists[k]->end(), selected.begin() + static_cast<std::ptrdiff_t>(offset[k]), keep);
+        std::copy_if(lists[k]->begin(), lists[k]->end(), selected.begin() + static_cast<std::ptrdiff_t>(offset[k]),
+                     keep);
       }
     });
     return selected;
   };
-  for (const Face& f : select([&](const Face& f) { return level(f[0]) == 1 || level(f[1]) == 1 || level(f[2]) == 1; })) {
+  for (const Face& f :
+       select([&](const Face& f) { return level(f[0]) == 1 || level(f[1]) == 1 || level(f[2]) == 1; })) {
     for (const std::uint32_t v : f) {
       if (level(v) == 0) mark(v, 2);
     }

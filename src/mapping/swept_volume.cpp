@@ -9,7 +9,9 @@ SweptVolume::SweptVolume(const Eigen::AlignedBox3f& box_L) : box_(box_L) {
   if (box_.isEmpty()) return;
   // A point in the box is no farther from the pose's origin than the box's farthest corner.
   float reach = 0.0f;
-  for (int c = 0; c < 8; ++c) reach = std::max(reach, box_.corner(static_cast<Eigen::AlignedBox3f::CornerType>(c)).norm());
+  for (int c = 0; c < 8; ++c) {
+    reach = std::max(reach, box_.corner(static_cast<Eigen::AlignedBox3f::CornerType>(c)).norm());
+  }
   cell_m_ = std::max(reach, 0.5f);
 }
 

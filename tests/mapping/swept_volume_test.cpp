@@ -28,14 +28,17 @@ TEST(SweptVolume, HoldsWhatTheBoxCoveredAtSomePose) {
   // Then a left turn: at (10, 5) heading +y, the box is 2 m wide along x and 5 m long along y.
   volume.add(poseAt(10.0, 5.0, M_PI / 2));
   for (const bool focused : {true, false}) {
-    if (focused) volume.focus(Vector3f(5, 0, 0), 30.0f);
-    else volume.focus(Vector3f(500, 500, 0), 1.0f);  // far away: every query takes the slow path
+    if (focused) {
+      volume.focus(Vector3f(5, 0, 0), 30.0f);
+    } else {
+      volume.focus(Vector3f(500, 500, 0), 1.0f);  // far away: every query takes the slow path
+    }
     EXPECT_TRUE(volume.contains({5.0f, 0.0f, -1.0f})) << focused;
-    EXPECT_TRUE(volume.contains({-2.9f, 0.9f, -1.4f})) << focused;  // behind the first pose
-    EXPECT_TRUE(volume.contains({11.9f, 0.0f, -1.0f})) << focused;  // ahead of the pose at 10
-    EXPECT_FALSE(volume.contains({5.0f, 1.2f, -1.0f})) << focused;  // beside the path
-    EXPECT_FALSE(volume.contains({5.0f, 0.0f, -1.7f})) << focused;  // the road under it
-    EXPECT_FALSE(volume.contains({5.0f, 0.0f, 0.3f})) << focused;   // above the roof
+    EXPECT_TRUE(volume.contains({-2.9f, 0.9f, -1.4f})) << focused;   // behind the first pose
+    EXPECT_TRUE(volume.contains({11.9f, 0.0f, -1.0f})) << focused;   // ahead of the pose at 10
+    EXPECT_FALSE(volume.contains({5.0f, 1.2f, -1.0f})) << focused;   // beside the path
+    EXPECT_FALSE(volume.contains({5.0f, 0.0f, -1.7f})) << focused;   // the road under it
+    EXPECT_FALSE(volume.contains({5.0f, 0.0f, 0.3f})) << focused;    // above the roof
     EXPECT_FALSE(volume.contains({12.5f, 0.0f, -1.0f})) << focused;  // never reached
     EXPECT_FALSE(volume.contains({-3.5f, 0.0f, -1.0f})) << focused;
     // The turned box: x within 1 m of 10, y from 2 (3 m behind) to 7 (2 m ahead).
@@ -82,7 +85,8 @@ TEST(SweptVolume, TheMapperDropsAFollowingCarButKeepsTheWall) {
       if (on && k >= 4) {
         EXPECT_EQ(stats.points_in_vehicle_path, follower) << "frame " << k;
       } else {
-        EXPECT_EQ(stats.points_in_vehicle_path, 0u) << "frame " << k << (on ? " (before the path reached it)" : " (off)");
+        EXPECT_EQ(stats.points_in_vehicle_path, 0u)
+            << "frame " << k << (on ? " (before the path reached it)" : " (off)");
         ++kept_follower_frames;
       }
     }

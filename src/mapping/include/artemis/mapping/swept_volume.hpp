@@ -49,7 +49,7 @@ class SweptVolume {
   float cell_m_ = 1.0f;
   std::vector<Pose> poses_;
   std::vector<std::pair<std::int32_t, std::int32_t>> origin_cells_;  // per pose: the cell of its origin
-  std::unordered_map<Cell, std::vector<std::uint32_t>> cells_;  // cell -> poses whose origin is in it
+  std::unordered_map<Cell, std::vector<std::uint32_t>> cells_;       // cell -> poses whose origin is in it
   // The focus window: cells [ix0, ix0 + n) x [iy0, iy0 + n), each with the poses of its 3 x 3
   // neighbourhood (CSR).
   std::int32_t ix0_ = 0;
