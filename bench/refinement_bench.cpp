@@ -3,9 +3,12 @@
 // together (median and p95), and its parts: culling, the reference depth (mesh z-buffer and LiDAR
 // depth), and residuals + W + the two updates. The mapper's stage 1 is timed beside it. As
 // `artemis run` does, each view is refined `--delay` frames after its scan was mapped (its
-// default, RunParams::texture_delay), against the mesh the later scans completed.
+// default, RunParams::texture_delay), against the mesh the later scans completed, and revisited
+// `--revisit` frames after it (RunParams::texture_revisit; 0: never) to colour what the map gained
+// since. Stage 2 a frame is the refinement and the revisit that fall due in it, timed together;
+// the views left at the end (refined and revisited after the final meshing) are not timed.
 //
-//   build/bench/refinement_bench [--frames N] [--threads N] [--delay N]
+//   build/bench/refinement_bench [--frames N] [--threads N] [--delay N] [--revisit N]
 // Frames are simulated before the clock starts.
 #include <fmt/format.h>
 
@@ -29,6 +32,7 @@ int main(int argc, char** argv) {
   int frames = 200;
   int threads = 0;
   int delay = pipeline::RunParams{}.texture_delay;
+  int revisit = pipeline::RunParams{}.texture_revisit;
   for (int i = 1; i + 1 < argc; i += 2) {
     if (std::strcmp(argv[i], "--frames") == 0) {
       frames = std::atoi(argv[i + 1]);
@@ -36,12 +40,14 @@ int main(int argc, char** argv) {
       threads = std::atoi(argv[i + 1]);
     } else if (std::strcmp(argv[i], "--delay") == 0) {
       delay = std::atoi(argv[i + 1]);
+    } else if (std::strcmp(argv[i], "--revisit") == 0) {
+      revisit = std::atoi(argv[i + 1]);
     } else {
-      fmt::print(stderr, "usage: refinement_bench [--frames N] [--threads N] [--delay N]\n");
+      fmt::print(stderr, "usage: refinement_bench [--frames N] [--threads N] [--delay N] [--revisit N]\n");
       return 2;
     }
   }
-  if (frames < 1 || delay < 0) return 2;
+  if (frames < 1 || delay < 0 || revisit < 0) return 2;
   sim::SimParams params;
   params.frames = frames;
   const sim::Simulator sim(params);
@@ -63,21 +69,39 @@ int main(int argc, char** argv) {
     PointCloud cloud;
     semantics::SemanticObservation obs;
     Isometry3d T_W_L;
+    int k = 0;
   };
   std::deque<Waiting> waiting;
-  std::vector<double> stage1, refine, cull, depth, fuse;
-  std::size_t in_view = 0, updated = 0;
+  // A refined view kept for its revisit.
+  struct Kept {
+    CameraView view;
+    mapping::ViewMemory memory;
+    int k = 0;
+  };
+  std::deque<Kept> kept;
+  std::vector<double> stage1, stage2, refine, cull, depth, fuse, revisits;
+  std::size_t in_view = 0, updated = 0, revisit_updated = 0;
   const auto refineOldest = [&] {
-    const Waiting& w = waiting.front();
+    Waiting& w = waiting.front();
+    mapping::ViewMemory memory;
     Stopwatch clock;
-    const mapping::RefinementStats r = mapper.refine({&w.view, /*texture=*/true, &w.obs, &w.cloud}, w.T_W_L);
+    const mapping::RefinementStats r =
+        mapper.refine({&w.view, /*texture=*/true, &w.obs, &w.cloud, revisit > delay ? &memory : nullptr}, w.T_W_L);
     refine.push_back(clock.elapsedMs());
     cull.push_back(r.cull_ms);
     depth.push_back(r.depth_ms);
     fuse.push_back(r.fuse_ms);
     in_view += r.vertices_in_view;
     updated += r.vertices_updated;
+    if (!memory.empty()) kept.push_back({std::move(w.view), std::move(memory), w.k});
     waiting.pop_front();
+  };
+  const auto revisitOldest = [&] {
+    Stopwatch clock;
+    const mapping::RefinementStats r = mapper.revisit(kept.front().view, kept.front().memory);
+    revisits.push_back(clock.elapsedMs());
+    revisit_updated += r.vertices_updated;
+    kept.pop_front();
   };
   for (int k = 0; k < frames; ++k) {
     const sim::LidarScan scan = sim.scan(k);
@@ -90,26 +114,49 @@ int main(int argc, char** argv) {
     w.cloud = bench::rangeGated(scan);
     w.obs = (*segmenter)->corrupt(images.semantic, images.instance, static_cast<std::size_t>(k), prompts);
     w.T_W_L = sim.T_W_L(k);
+    w.k = k;
     Stopwatch clock;
     const mapping::SemanticInput input{&w.view, &w.obs};
     mapper.integrate(w.cloud, w.T_W_L, &input);
     stage1.push_back(clock.elapsedMs());
     waiting.push_back(std::move(w));
-    if (waiting.size() > static_cast<std::size_t>(delay)) refineOldest();
+    clock.reset();
+    bool due = false;
+    if (waiting.size() > static_cast<std::size_t>(delay)) {
+      refineOldest();
+      due = true;
+    }
+    while (!kept.empty() && kept.front().k + revisit <= k) {
+      revisitOldest();
+      due = true;
+    }
+    if (due) stage2.push_back(clock.elapsedMs());
     if ((k + 1) % 50 == 0) fmt::print(stderr, "{} / {} frames\n", k + 1, frames);
   }
   mapper.finish();
   while (!waiting.empty()) refineOldest();
+  const std::size_t revisited = revisits.size();
+  while (!kept.empty()) revisitOldest();
   const auto s1 = bench::percentiles(stage1);
+  const auto s2 = bench::percentiles(stage2);
   const auto r = bench::percentiles(refine);
-  fmt::print("simulated street, {} frames, {} threads, views refined {} frames late, {} vertices at the end\n", frames,
-             threads == 0 ? std::string("all") : std::to_string(threads), delay, mapper.mesh().vertexCount());
+  fmt::print(
+      "simulated street, {} frames, {} threads, views refined {} frames late and revisited {} frames late, {} "
+      "vertices at the end\n",
+      frames, threads == 0 ? std::string("all") : std::to_string(threads), delay,
+      revisit > delay ? std::to_string(revisit) : std::string("never"), mapper.mesh().vertexCount());
   fmt::print("stage 1 (insert, fusion, meshing) per frame: {:.2f} / {:.2f} ms (median / p95)\n", s1.median, s1.p95);
-  fmt::print("stage 2 refinement (texture + semantics) per frame: {:.2f} / {:.2f} ms (median / p95)\n", r.median,
-             r.p95);
-  fmt::print("  culling {:.2f}, reference depth {:.2f}, residuals + W + updates {:.2f} ms (medians)\n",
+  fmt::print("stage 2 (refinement + revisit due) per frame: {:.2f} / {:.2f} ms (median / p95)\n", s2.median, s2.p95);
+  fmt::print("  refinement (texture + semantics) per view: {:.2f} / {:.2f} ms (median / p95)\n", r.median, r.p95);
+  fmt::print("    culling {:.2f}, reference depth {:.2f}, residuals + W + updates {:.2f} ms (medians)\n",
              bench::percentiles(cull).median, bench::percentiles(depth).median, bench::percentiles(fuse).median);
-  fmt::print("  {:.0f} vertices in view a frame, {:.0f} updated\n", static_cast<double>(in_view) / frames,
+  fmt::print("    {:.0f} vertices in view a frame, {:.0f} updated\n", static_cast<double>(in_view) / frames,
              static_cast<double>(updated) / frames);
+  if (!revisits.empty()) {
+    const auto v = bench::percentiles(revisits);
+    fmt::print(
+        "  revisit per view: {:.2f} / {:.2f} ms (median / p95), {} during the run, {:.0f} vertices coloured a view\n",
+        v.median, v.p95, revisited, static_cast<double>(revisit_updated) / static_cast<double>(revisits.size()));
+  }
   return 0;
 }

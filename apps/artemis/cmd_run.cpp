@@ -5,10 +5,10 @@
 #include <cmath>
 #include <filesystem>
 #include <memory>
+#include <nlohmann/json.hpp>
 #include <sstream>
 #include <string>
 #include <vector>
-#include <nlohmann/json.hpp>
 
 #include "artemis/core/log.hpp"
 #include "artemis/core/timer.hpp"
@@ -201,6 +201,7 @@ nlohmann::ordered_json configJson(const RunFlags& f, const std::string& dataset_
            {{"on", f.params.texture},
             {"holdout", f.params.texture_holdout},
             {"delay_frames", f.params.texture_delay},
+            {"revisit_frames", f.params.texture_revisit},
             {"reliability", m.refinement.reliability},
             {"sigma_photo", m.refinement.sigma_photo},
             {"sigma_geom", m.refinement.sigma_geom},
@@ -238,7 +239,8 @@ void printSummary(const RunFlags& flags, const pipeline::RunReport& report_value
 // x0,x1,y0,y1,z0,z1 of the LiDAR frame.
 Result<Eigen::AlignedBox3f> parseVehicleBox(const std::string& text) {
   if (text == "off") return Eigen::AlignedBox3f();
-  if (text == "kitti") return Eigen::AlignedBox3f(Eigen::Vector3f(-2.7f, -0.8f, -1.4f), Eigen::Vector3f(1.7f, 0.8f, 0.0f));
+  if (text == "kitti")
+    return Eigen::AlignedBox3f(Eigen::Vector3f(-2.7f, -0.8f, -1.4f), Eigen::Vector3f(1.7f, 0.8f, 0.0f));
   std::vector<float> v;
   std::stringstream in(text);
   std::string item;
@@ -248,13 +250,15 @@ Result<Eigen::AlignedBox3f> parseVehicleBox(const std::string& text) {
       v.push_back(std::stof(item, &used));
       if (used != item.size()) throw std::invalid_argument(item);
     } catch (const std::exception&) {
-      return invalidArgument("--vehicle-box: '" + item + "' is not a number (expected kitti, off or x0,x1,y0,y1,z0,z1)");
+      return invalidArgument("--vehicle-box: '" + item +
+                             "' is not a number (expected kitti, off or x0,x1,y0,y1,z0,z1)");
     }
   }
   if (v.size() != 6 || !(v[0] < v[1]) || !(v[2] < v[3]) || !(v[4] < v[5]) ||
       !std::all_of(v.begin(), v.end(), [](float x) { return std::isfinite(x); })) {
-    return invalidArgument("--vehicle-box '" + text +
-                           "': expected kitti, off or six finite numbers x0,x1,y0,y1,z0,z1 with x0 < x1, y0 < y1, z0 < z1");
+    return invalidArgument(
+        "--vehicle-box '" + text +
+        "': expected kitti, off or six finite numbers x0,x1,y0,y1,z0,z1 with x0 < x1, y0 < y1, z0 < z1");
   }
   return Eigen::AlignedBox3f(Eigen::Vector3f(v[0], v[2], v[4]), Eigen::Vector3f(v[1], v[3], v[5]));
 }
@@ -411,6 +415,10 @@ void printSummary(const RunFlags& flags, const pipeline::RunReport& report_value
     }
     fmt::print("refine per frame (median / p95 ms) {:.1f} / {:.1f}\n", refine_t.median_ms, refine_t.p95_ms);
   }
+  if (!report->times.samples("revisit").empty()) {
+    const auto revisit = report->times.summary("revisit");
+    fmt::print("texture revisit per frame (median / p95 ms) {:.1f} / {:.1f}\n", revisit.median_ms, revisit.p95_ms);
+  }
   if (semantic_on) {
     const auto fuse = report->times.summary("fuse");
     const auto segment = report->times.summary("segment");
@@ -512,6 +520,11 @@ void addRunCommand(CLI::App& app, int& exit_code) {
                   "meshed the ground and walls in front of the camera (0: at once)")
       ->capture_default_str()
       ->check(CLI::Range(0, 100));
+  cmd->add_option("--texture-revisit", flags->params.texture_revisit,
+                  "Keep each textured image until this many frames after its scan, then colour with it what the "
+                  "map gained since its refinement (0 or not above --texture-delay: no revisit)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 300));
   auto& rp = m.refinement;
   cmd->add_flag(
       "--no-reliability", [&rp](std::int64_t) { rp.reliability = false; },

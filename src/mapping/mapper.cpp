@@ -128,6 +128,12 @@ RefinementStats Mapper::refine(const RefinementInput& input, const Isometry3d& T
   return stats;
 }
 
+RefinementStats Mapper::revisit(const CameraView& view, const ViewMemory& memory) {
+  RefinementStats stats;
+  arena_->arena.execute([&] { stats = refinement_.revisit(mesh_, view, memory); });
+  return stats;
+}
+
 std::size_t Mapper::finish() {
   mesh_.beginFrame();
   // Pending: voxels with points added since they were meshed, and voxels whose neighbours gained

@@ -1,6 +1,7 @@
 #include "artemis/mapping/refinement.hpp"
 
 #include <tbb/blocked_range.h>
+#include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
 
@@ -82,6 +83,133 @@ struct Candidate {
   bool valid = false;
 };
 
+// Where a candidate's W must fall below min_reliability whatever its colour: r_geom / sigma_geom
+// above sqrt(-2 ln min_reliability). Its colour is then not sampled.
+float hiddenResidual(const RefinementParams& params) {
+  if (!params.reliability || !(params.min_reliability > 0.0)) return std::numeric_limits<float>::infinity();
+  return static_cast<float>(params.sigma_geom * std::sqrt(-2.0 * std::log(params.min_reliability)));
+}
+
+// Step 3 for one vertex: its pixel, the colour there (bilinear, linear RGB) and r_geom against
+// the reference depth (+inf: none). False when it does not project into the image.
+class ViewSampler {
+ public:
+  // Vertices deeper than max_depth_m are left out.
+  ViewSampler(const CameraView& view, const Isometry3d& T_W_C, const RefinementParams& params,
+              float max_depth_m = std::numeric_limits<float>::infinity())
+      : view_(view),
+        project_(view.camera),
+        w_(view.image.width()),
+        h_(view.image.height()),
+        epsilon_(static_cast<float>(params.depth_epsilon_m)),
+        hidden_(hiddenResidual(params)),
+        max_depth_(max_depth_m),
+        lut_(srgbToLinear()) {
+    const Isometry3d T_C_W = T_W_C.inverse();
+    R_ = T_C_W.linear().cast<float>();
+    t_ = T_C_W.translation().cast<float>();
+  }
+
+  template <typename DepthAt>
+  bool sample(const Eigen::Vector3f& p_W, Candidate& c, const DepthAt& depth_at) const {
+    const Eigen::Vector3f p_C = R_ * p_W + t_;
+    if (!(p_C.z() > static_cast<float>(PinholeCamera::kMinDepthM)) || p_C.z() > max_depth_) return false;
+    const Eigen::Vector2f uv = project_(p_C);
+    const float u = uv.x();
+    const float v = uv.y();
+    if (!(u >= 0.0f && v >= 0.0f && u <= static_cast<float>(w_ - 1) && v <= static_cast<float>(h_ - 1))) return false;
+    c.u = static_cast<int>(std::lround(u));
+    c.v = static_cast<int>(std::lround(v));
+    const float d_ref = depth_at(c.u, c.v);
+    c.r_geom = std::isfinite(d_ref) ? std::abs(p_C.z() - d_ref) / std::max(d_ref, epsilon_) : 0.0f;
+    c.valid = true;
+    if (c.r_geom > hidden_) return true;  // W will be 0 whatever the colour
+    const int u0 = std::min(static_cast<int>(u), w_ - 2 < 0 ? 0 : w_ - 2);
+    const int v0 = std::min(static_cast<int>(v), h_ - 2 < 0 ? 0 : h_ - 2);
+    const float a = u - static_cast<float>(u0);
+    const float b = v - static_cast<float>(v0);
+    const int u1 = std::min(u0 + 1, w_ - 1);
+    const int v1 = std::min(v0 + 1, h_ - 1);
+    c.colour = (1 - a) * (1 - b) * texel(u0, v0) + a * (1 - b) * texel(u1, v0) + (1 - a) * b * texel(u0, v1) +
+               a * b * texel(u1, v1);
+    return true;
+  }
+
+ private:
+  [[nodiscard]] Eigen::Vector3f texel(int u, int v) const {
+    const ImageU8& im = view_.image;
+    return {lut_[im.at(u, v, 0)], lut_[im.at(u, v, 1)], lut_[im.at(u, v, 2)]};
+  }
+
+  const CameraView& view_;
+  PinholeProjector project_;
+  Eigen::Matrix3f R_;
+  Eigen::Vector3f t_;
+  int w_;
+  int h_;
+  float epsilon_;
+  float hidden_;
+  float max_depth_;
+  const std::array<float, 256>& lut_;
+};
+
+// Step 3 for every vertex of `voxels`; the candidates keep the voxels' order.
+template <typename DepthAt>
+std::vector<Candidate> gatherCandidates(const VoxelMap& map, const SemanticMesh& mesh,
+                                        const std::vector<std::uint32_t>& voxels, const ViewSampler& sampler,
+                                        const DepthAt& depth_at) {
+  std::vector<std::size_t> offset(voxels.size() + 1, 0);
+  for (std::size_t k = 0; k < voxels.size(); ++k) offset[k + 1] = offset[k] + map.voxelAt(voxels[k]).vertices.size();
+  std::vector<Candidate> candidates(offset.back());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, voxels.size(), 64), [&](const auto& range) {
+    for (std::size_t k = range.begin(); k < range.end(); ++k) {
+      const Voxel& voxel = map.voxelAt(voxels[k]);
+      for (std::size_t j = 0; j < voxel.vertices.size(); ++j) {
+        Candidate& c = candidates[offset[k] + j];
+        c.vertex = voxel.vertices[j];
+        sampler.sample(mesh.positions()[c.vertex], c, depth_at);
+      }
+    }
+  });
+  return candidates;
+}
+
+// Step 5: eq. 9-10, W of every candidate against the colour means before the update (the colours
+// divided by the view's gain first); below min_reliability W is 0.
+void weigh(std::vector<Candidate>& candidates, const SemanticMesh& mesh, const RefinementParams& params, double gain) {
+  const auto inv_gain = static_cast<float>(1.0 / gain);
+  const auto inv_sp = static_cast<float>(1.0 / params.sigma_photo);
+  const auto inv_sg = static_cast<float>(1.0 / params.sigma_geom);
+  const auto min_w = static_cast<float>(params.min_reliability);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, candidates.size(), 4096), [&](const auto& range) {
+    for (std::size_t k = range.begin(); k < range.end(); ++k) {
+      Candidate& c = candidates[k];
+      if (!c.valid) continue;
+      c.colour *= inv_gain;
+      float reliability = 1.0f;
+      if (params.reliability) {
+        const float r_photo = mesh.hasColour(c.vertex) ? (c.colour - mesh.colourMean(c.vertex)).norm() : 0.0f;
+        const float e = r_photo * inv_sp;
+        const float g = c.r_geom * inv_sg;
+        reliability = std::exp(-0.5f * (e * e + g * g));
+      }
+      c.reliability = reliability >= min_w && reliability > 0.0f ? reliability : 0.0f;
+    }
+  });
+}
+
+// The colour update: an observation with variance sigma_obs^2 / W; every candidate is a distinct vertex.
+void fuseColours(const std::vector<Candidate>& candidates, SemanticMesh& mesh, const RefinementParams& params) {
+  const auto obs_var = static_cast<float>(params.sigma_obs * params.sigma_obs);
+  mesh.reserveColours();
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, candidates.size(), 4096), [&](const auto& range) {
+    for (std::size_t k = range.begin(); k < range.end(); ++k) {
+      const Candidate& c = candidates[k];
+      if (c.reliability > 0.0f) mesh.fuseColour(c.vertex, c.colour, obs_var / c.reliability);
+    }
+  });
+}
+
 }  // namespace
 
 std::vector<std::uint32_t> voxelsInView(const VoxelMap& map, const PinholeCamera& camera, const Isometry3d& T_W_C,
@@ -91,19 +219,27 @@ std::vector<std::uint32_t> voxelsInView(const VoxelMap& map, const PinholeCamera
   const Eigen::Vector3f t = T_C_W.translation().cast<float>();
   const Frustum frustum(camera, static_cast<float>(PinholeCamera::kMinDepthM), static_cast<float>(max_range_m));
   const float block_size = map.voxelSize() * static_cast<float>(VoxelMap::kBlockVoxels);
-  std::vector<std::uint32_t> out;
+  std::vector<const VoxelMap::Block*> blocks;
   for (const VoxelMap::Block& block : map.blocks()) {
     const Eigen::Vector3f lo = Eigen::Vector3f(static_cast<float>(block.key.x), static_cast<float>(block.key.y),
                                                static_cast<float>(block.key.z)) *
                                block_size;
-    if (!frustum.mayContain(lo, lo + Eigen::Vector3f::Constant(block_size), R, t)) continue;
-    for (const std::uint32_t index : block.voxels) {
-      const Voxel& v = map.voxelAt(index);
-      if (v.points.empty() || !frustum.mayContain(v.lo, v.hi, R, t)) continue;
-      out.push_back(index);
-    }
+    if (frustum.mayContain(lo, lo + Eigen::Vector3f::Constant(block_size), R, t)) blocks.push_back(&block);
   }
-  std::sort(out.begin(), out.end());
+  tbb::enumerable_thread_specific<std::vector<std::uint32_t>> found;
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, blocks.size(), 4), [&](const auto& range) {
+    std::vector<std::uint32_t>& mine = found.local();
+    for (std::size_t b = range.begin(); b < range.end(); ++b) {
+      for (const std::uint32_t index : blocks[b]->voxels) {
+        const Voxel& v = map.voxelAt(index);
+        if (v.points.empty() || !frustum.mayContain(v.lo, v.hi, R, t)) continue;
+        mine.push_back(index);
+      }
+    }
+  });
+  std::vector<std::uint32_t> out;
+  for (const std::vector<std::uint32_t>& mine : found) out.insert(out.end(), mine.begin(), mine.end());
+  std::sort(out.begin(), out.end());  // whatever the threads found first
   return out;
 }
 
@@ -170,50 +306,26 @@ RefinementStats Refinement::refine(const VoxelMap& map, SemanticMesh& mesh, cons
     const std::vector<float>& lidar = lidar_.nearest.data();
     for (std::size_t k = 0; k < std::min(z.size(), lidar.size()); ++k) z[k] = std::min(z[k], lidar[k]);
   }
+  ViewMemory* memory = texture ? input.memory : nullptr;
+  if (memory != nullptr) {
+    memory->depth = ImageU16(w, h, 1);
+    const std::vector<float>& z = reference.depth.data();
+    std::vector<std::uint16_t>& q = memory->depth.data();
+    constexpr float kMaxSteps = static_cast<float>(ViewMemory::kNoDepth - 1);
+    for (std::size_t k = 0; k < q.size(); ++k) {
+      const float steps = z[k] / ViewMemory::kDepthStepM;
+      q[k] = steps < kMaxSteps ? static_cast<std::uint16_t>(std::lround(steps)) : ViewMemory::kNoDepth;
+    }
+    memory->T_W_C = T_W_C;
+    memory->vertices = static_cast<std::uint32_t>(mesh.vertexCount());
+  }
   stats.depth_ms = clock.elapsedMs();
 
   // 3. Each vertex of those voxels: its pixel, colour (bilinear) and geometric residual.
   clock.reset();
-  std::vector<std::size_t> offset(voxels.size() + 1, 0);
-  for (std::size_t k = 0; k < voxels.size(); ++k) offset[k + 1] = offset[k] + map.voxelAt(voxels[k]).vertices.size();
-  std::vector<Candidate> candidates(offset.back());
-  const Isometry3d T_C_W = T_W_C.inverse();
-  const Eigen::Matrix3f R = T_C_W.linear().cast<float>();
-  const Eigen::Vector3f t = T_C_W.translation().cast<float>();
-  const PinholeProjector project(camera);
-  const auto epsilon = static_cast<float>(params_.depth_epsilon_m);
-  const auto& lut = srgbToLinear();
-  const auto texel = [&](int u, int v) {
-    return Eigen::Vector3f(lut[view.image.at(u, v, 0)], lut[view.image.at(u, v, 1)], lut[view.image.at(u, v, 2)]);
-  };
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, voxels.size(), 64), [&](const auto& range) {
-    for (std::size_t k = range.begin(); k < range.end(); ++k) {
-      const Voxel& voxel = map.voxelAt(voxels[k]);
-      for (std::size_t j = 0; j < voxel.vertices.size(); ++j) {
-        Candidate& c = candidates[offset[k] + j];
-        c.vertex = voxel.vertices[j];
-        const Eigen::Vector3f p_C = R * mesh.positions()[c.vertex] + t;
-        if (!(p_C.z() > static_cast<float>(PinholeCamera::kMinDepthM))) continue;
-        const Eigen::Vector2f uv = project(p_C);
-        const float u = uv.x();
-        const float v = uv.y();
-        if (!(u >= 0.0f && v >= 0.0f && u <= static_cast<float>(w - 1) && v <= static_cast<float>(h - 1))) continue;
-        const int u0 = std::min(static_cast<int>(u), w - 2 < 0 ? 0 : w - 2);
-        const int v0 = std::min(static_cast<int>(v), h - 2 < 0 ? 0 : h - 2);
-        const float a = u - static_cast<float>(u0);
-        const float b = v - static_cast<float>(v0);
-        const int u1 = std::min(u0 + 1, w - 1);
-        const int v1 = std::min(v0 + 1, h - 1);
-        c.colour = (1 - a) * (1 - b) * texel(u0, v0) + a * (1 - b) * texel(u1, v0) + (1 - a) * b * texel(u0, v1) +
-                   a * b * texel(u1, v1);
-        c.u = static_cast<int>(std::lround(u));
-        c.v = static_cast<int>(std::lround(v));
-        const float d_ref = reference.depth.at(c.u, c.v);
-        c.r_geom = std::isfinite(d_ref) ? std::abs(p_C.z() - d_ref) / std::max(d_ref, epsilon) : 0.0f;
-        c.valid = true;
-      }
-    }
-  });
+  const ImageF32& z_ref = reference.depth;
+  std::vector<Candidate> candidates = gatherCandidates(map, mesh, voxels, ViewSampler(view, T_W_C, params_),
+                                                       [&z_ref](int u, int v) { return z_ref.at(u, v); });
   for (const Candidate& c : candidates) stats.vertices_in_view += c.valid ? 1 : 0;
 
   // 4. The exposure gain: median of observed / mapped luminance over coloured, unoccluded vertices.
@@ -232,39 +344,13 @@ RefinementStats Refinement::refine(const VoxelMap& map, SemanticMesh& mesh, cons
     }
   }
   stats.gain = gain;
+  if (memory != nullptr) memory->gain = gain;
 
   // 5. eq. 9-10: W of every candidate, against the colour means before this view's update.
-  const auto inv_gain = static_cast<float>(1.0 / gain);
-  const auto inv_sp = static_cast<float>(1.0 / params_.sigma_photo);
-  const auto inv_sg = static_cast<float>(1.0 / params_.sigma_geom);
-  const auto min_w = static_cast<float>(params_.min_reliability);
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, candidates.size(), 4096), [&](const auto& range) {
-    for (std::size_t k = range.begin(); k < range.end(); ++k) {
-      Candidate& c = candidates[k];
-      if (!c.valid) continue;
-      c.colour *= inv_gain;
-      float reliability = 1.0f;
-      if (params_.reliability) {
-        const float r_photo = mesh.hasColour(c.vertex) ? (c.colour - mesh.colourMean(c.vertex)).norm() : 0.0f;
-        const float e = r_photo * inv_sp;
-        const float g = c.r_geom * inv_sg;
-        reliability = std::exp(-0.5f * (e * e + g * g));
-      }
-      c.reliability = reliability >= min_w && reliability > 0.0f ? reliability : 0.0f;
-    }
-  });
+  weigh(candidates, mesh, params_, gain);
 
   // 6. The updates, texture and semantics side by side; every candidate is a distinct vertex.
-  const auto obs_var = static_cast<float>(params_.sigma_obs * params_.sigma_obs);
-  const auto fuse_texture = [&] {
-    mesh.reserveColours();
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, candidates.size(), 4096), [&](const auto& range) {
-      for (std::size_t k = range.begin(); k < range.end(); ++k) {
-        const Candidate& c = candidates[k];
-        if (c.reliability > 0.0f) mesh.fuseColour(c.vertex, c.colour, obs_var / c.reliability);
-      }
-    });
-  };
+  const auto fuse_texture = [&] { fuseColours(candidates, mesh, params_); };
   const auto refine_semantics = [&] {
     // log P_mask per mask id (0: outside every mask): of its own slot, and of every other slot.
     const float slots = static_cast<float>(mesh.slotCount());
@@ -325,6 +411,55 @@ RefinementStats Refinement::refine(const VoxelMap& map, SemanticMesh& mesh, cons
     stats.vertices_updated += texture ? 1 : 0;
     stats.vertices_labelled += observation != nullptr ? 1 : 0;
   }
+  stats.fuse_ms = clock.elapsedMs();
+  return stats;
+}
+
+RefinementStats Refinement::revisit(SemanticMesh& mesh, const CameraView& view, const ViewMemory& memory) {
+  RefinementStats stats;
+  if (memory.empty() || !view.hasImage() || view.image.channels() < 3) return stats;
+  if (memory.depth.width() != view.image.width() || memory.depth.height() != view.image.height()) {
+    throw std::invalid_argument("refinement: a revisited view's depth is " + std::to_string(memory.depth.width()) +
+                                "x" + std::to_string(memory.depth.height()) + " but its image " +
+                                std::to_string(view.image.width()) + "x" + std::to_string(view.image.height()));
+  }
+  if (memory.vertices >= mesh.vertexCount()) return stats;  // nothing new
+
+  // The vertices added since, still without colour: ids from memory.vertices on, read in order.
+  Stopwatch clock;
+  const ImageU16& depth = memory.depth;
+  const auto depth_at = [&depth](int u, int v) {
+    const std::uint16_t q = depth.at(u, v);
+    return q == ViewMemory::kNoDepth ? std::numeric_limits<float>::infinity()
+                                     : static_cast<float>(q) * ViewMemory::kDepthStepM;
+  };
+  const ViewSampler sampler(view, memory.T_W_C, params_, static_cast<float>(params_.max_range_m));
+  const auto end = static_cast<std::uint32_t>(mesh.vertexCount());
+  tbb::enumerable_thread_specific<std::vector<Candidate>> found;
+  tbb::parallel_for(tbb::blocked_range<std::uint32_t>(memory.vertices, end, 4096), [&](const auto& range) {
+    std::vector<Candidate>& mine = found.local();
+    for (std::uint32_t v = range.begin(); v < range.end(); ++v) {
+      if (mesh.hasColour(v)) continue;
+      Candidate c;
+      c.vertex = v;
+      if (sampler.sample(mesh.positions()[v], c, depth_at)) mine.push_back(c);
+    }
+  });
+  std::vector<Candidate> candidates;
+  for (const std::vector<Candidate>& mine : found) candidates.insert(candidates.end(), mine.begin(), mine.end());
+  stats.vertices_in_view = candidates.size();
+  stats.gain = memory.gain;
+  weigh(candidates, mesh, params_, memory.gain);
+  fuseColours(candidates, mesh, params_);
+  const std::vector<std::uint32_t>& voxel_of = mesh.voxelIndices();
+  for (const Candidate& c : candidates) {
+    if (!(c.reliability > 0.0f)) continue;
+    ++stats.vertices_updated;
+    stats.voxels.push_back(voxel_of[c.vertex]);
+  }
+  std::sort(stats.voxels.begin(), stats.voxels.end());
+  stats.voxels.erase(std::unique(stats.voxels.begin(), stats.voxels.end()), stats.voxels.end());
+  stats.voxels_in_view = stats.voxels.size();
   stats.fuse_ms = clock.elapsedMs();
   return stats;
 }

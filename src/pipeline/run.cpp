@@ -117,9 +117,9 @@ std::string timingJson(const RunReport& report) {
   nlohmann::ordered_json j;
   j["frames"] = report.frames;
   nlohmann::ordered_json stages = nlohmann::ordered_json::object();
-  for (const std::string& stage :
-       {std::string("read"), std::string("register"), std::string("segment"), std::string("insert"),
-        std::string("fuse"), std::string("mesh"), std::string("constrain"), std::string("refine")}) {
+  for (const std::string& stage : {std::string("read"), std::string("register"), std::string("segment"),
+                                   std::string("insert"), std::string("fuse"), std::string("mesh"),
+                                   std::string("constrain"), std::string("refine"), std::string("revisit")}) {
     if (report.times.samples(stage).empty()) continue;
     const StageSummary s = report.times.summary(stage);
     stages[stage] = {{"median_ms", s.median_ms}, {"p95_ms", s.p95_ms}, {"max_ms", s.max_ms}};
@@ -194,6 +194,9 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
   if (params.texture_delay < 0) {
     return invalidArgument(fmt::format("texture_delay must be 0 or more frames, not {}", params.texture_delay));
   }
+  if (params.texture_revisit < 0) {
+    return invalidArgument(fmt::format("texture_revisit must be 0 or more frames, not {}", params.texture_revisit));
+  }
   std::error_code ec;
   fs::create_directories(out, ec);
   if (ec) return ioError(fmt::format("{}: cannot create folder: {}", out.string(), ec.message()));
@@ -242,11 +245,22 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
     std::size_t i = 0;  // its place in the range
   };
   std::deque<DelayedView> delayed;
-  const auto refineView = [&](const DelayedView& d) {
+  // Refined textured views kept for their revisit (RunParams::texture_revisit), oldest first.
+  struct KeptView {
+    CameraView view;
+    mapping::ViewMemory memory;
+    std::size_t i = 0;
+    std::size_t index = 0;  // the frame's
+  };
+  std::deque<KeptView> kept;
+  const bool revisits = params.texture && params.texture_revisit > params.texture_delay;
+  const auto refineView = [&](DelayedView& d) {
     Stopwatch refine_clock;
+    mapping::ViewMemory memory;
     const mapping::RefinementInput input{&d.frame.cameras[d.camera], d.texture, d.semantics ? &d.observation : nullptr,
-                                         &d.frame.points_L};
+                                         &d.frame.points_L, revisits && d.texture ? &memory : nullptr};
     const mapping::RefinementStats r = mapper.refine(input, d.T_W_L);
+    if (!memory.empty()) kept.push_back({std::move(d.frame.cameras[d.camera]), std::move(memory), d.i, d.frame.index});
     report.times.add("refine", refine_clock.elapsedMs());
     report.frames_textured += d.texture ? 1 : 0;
     report.frames_semantic_refined += d.semantics ? 1 : 0;
@@ -255,6 +269,16 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
         "labelled, gain {:.3f}; cull {:.1f} ms, depth {:.1f} ms, fuse {:.1f} ms",
         d.frame.index, r.voxels_in_view, r.faces_rendered, r.vertices_in_view, r.vertices_updated, r.vertices_labelled,
         r.gain, r.cull_ms, r.depth_ms, r.fuse_ms);
+    return r;
+  };
+  const auto revisitView = [&](const KeptView& k) {
+    Stopwatch clock;
+    const mapping::RefinementStats r = mapper.revisit(k.view, k.memory);
+    report.times.add("revisit", clock.elapsedMs());
+    log::debug(
+        "frame {}: revisit: {} voxels in view with new vertices, {} of them in view, {} coloured; cull {:.1f} ms, "
+        "fuse {:.1f} ms",
+        k.index, r.voxels_in_view, r.vertices_in_view, r.vertices_updated, r.cull_ms, r.fuse_ms);
     return r;
   };
 
@@ -404,6 +428,12 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
       if (refined) r.voxels.insert(r.voxels.begin(), refined->voxels.begin(), refined->voxels.end());
       refined = std::move(r);
     }
+    while (!kept.empty() && kept.front().i + static_cast<std::size_t>(params.texture_revisit) <= i) {
+      mapping::RefinementStats r = revisitView(kept.front());
+      kept.pop_front();
+      if (refined) r.voxels.insert(r.voxels.begin(), refined->voxels.begin(), refined->voxels.end());
+      refined = std::move(r);
+    }
     report.times.add("total", frame_clock.elapsedMs() - segment_ms);
     trajectory += formatRowMajor3x4(T_W_L) + "\n";
     last_T = T_W_L;
@@ -429,6 +459,10 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
   mapping::RefinementStats flushed;
   for (; !delayed.empty(); delayed.pop_front()) {
     const mapping::RefinementStats r = refineView(delayed.front());
+    flushed.voxels.insert(flushed.voxels.end(), r.voxels.begin(), r.voxels.end());
+  }
+  for (; !kept.empty(); kept.pop_front()) {
+    const mapping::RefinementStats r = revisitView(kept.front());
     flushed.voxels.insert(flushed.voxels.end(), r.voxels.begin(), r.voxels.end());
   }
   if (params.observer) {

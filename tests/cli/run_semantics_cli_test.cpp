@@ -214,6 +214,7 @@ TEST(RunTexture, ColoursTheMeshAndHoldsOutFrames) {
 
 // A view refined after later scans colours the mesh those scans added in front of the camera; each
 // view is still refined once, and views still waiting at the end are refined against the final mesh.
+// A view kept for a revisit then colours what was added after its refinement.
 TEST(RunTexture, DelayedViewsColourWhatLaterScansMeshed) {
   test::TempDir tmp;
   const fs::path sim = simulate(tmp);
@@ -233,7 +234,8 @@ TEST(RunTexture, DelayedViewsColourWhatLaterScansMeshed) {
   std::vector<std::size_t> counts;
   for (const int delay : {0, 2, 10}) {
     const fs::path out = tmp / fmt::format("d{}", delay);
-    const auto r = runCli(fmt::format("run {} --texture-delay {} --out {}", sim.string(), delay, out.string()));
+    const auto r = runCli(
+        fmt::format("run {} --texture-delay {} --texture-revisit 0 --out {}", sim.string(), delay, out.string()));
     ASSERT_EQ(r.exit_code, 0) << r.err;
     EXPECT_NE(r.out.find("texture: 4 frames refined"), std::string::npos) << r.out;
     EXPECT_EQ(readJson(out / "config.json")["texture"]["delay_frames"], delay);
@@ -246,6 +248,26 @@ TEST(RunTexture, DelayedViewsColourWhatLaterScansMeshed) {
     const auto r = runCli("run " + sim.string() + " --texture-delay " + bad + " --out " + (tmp / "bad").string());
     EXPECT_NE(r.exit_code, 0) << bad;
     EXPECT_NE(r.err.find("--texture-delay"), std::string::npos) << r.err;
+  }
+
+  // Revisited views colour what the next scans added after their refinement; a revisit not later
+  // than the refinement is none.
+  std::vector<std::size_t> revisited;
+  for (const int revisit : {0, 3}) {
+    const fs::path out = tmp / fmt::format("r{}", revisit);
+    const auto r = runCli(
+        fmt::format("run {} --texture-delay 0 --texture-revisit {} --out {}", sim.string(), revisit, out.string()));
+    ASSERT_EQ(r.exit_code, 0) << r.err;
+    EXPECT_EQ(readJson(out / "config.json")["texture"]["revisit_frames"], revisit);
+    EXPECT_EQ(readJson(out / "timing.json")["stages"].contains("revisit"), revisit > 0);
+    revisited.push_back(coloured(out / "mesh.ply"));
+  }
+  EXPECT_EQ(revisited[0], counts[0]);
+  EXPECT_GT(revisited[1], revisited[0] + revisited[0] / 20) << revisited[0] << " " << revisited[1];
+  for (const char* bad : {"-1", "301", "x"}) {
+    const auto r = runCli("run " + sim.string() + " --texture-revisit " + bad + " --out " + (tmp / "bad").string());
+    EXPECT_NE(r.exit_code, 0) << bad;
+    EXPECT_NE(r.err.find("--texture-revisit"), std::string::npos) << r.err;
   }
 }
 

@@ -1,9 +1,12 @@
 // Stage 2's texture refinement on scenes with known answers: culling by blocks and voxels, a
-// vertex hidden behind a nearer surface gets no colour from that view, the exposure gain.
+// vertex hidden behind a nearer surface gets no colour from that view, the exposure gain, and a
+// kept view's revisit.
 #include <gtest/gtest.h>
 
 #include <cmath>
 #include <memory>
+#include <stdexcept>
+#include <vector>
 
 #include "artemis/mapping/mapper.hpp"
 #include "artemis/mapping/refinement.hpp"
@@ -131,6 +134,77 @@ TEST(TextureRefinement, CullingKeepsTheVoxelsInViewOnly) {
   std::size_t front_voxels = 0;
   for (const auto& key : mapper.voxels().keys()) front_voxels += key.x > 0 ? 1 : 0;
   EXPECT_EQ(ahead, front_voxels);
+}
+
+// A view kept after its refinement colours, when revisited, the vertices scanned since that it
+// saw: not those hidden behind a surface of its reference depth, nor those in front of one (a new
+// occluder or a new surface, r_geom cannot tell), and never a vertex twice.
+TEST(TextureRefinement, ARevisitColoursWhatWasScannedAfterTheRefinement) {
+  Mapper mapper{MapperParams{}};
+  const auto half = [](const PointCloud& cloud, bool left) {
+    PointCloud out;
+    for (const auto& p : cloud.points) {
+      if ((p.y() < 0.0f) == left) out.points.push_back(p);
+    }
+    return out;
+  };
+  // First the board at 5 m and the left half of the wall at 10 m.
+  PointCloud first = half(wall(10.05f, 4.0f, 2.0f), true);
+  const PointCloud board = wall(5.05f, 1.0f, 1.0f);
+  first.points.insert(first.points.end(), board.points.begin(), board.points.end());
+  mapper.integrate(first, Isometry3d::Identity());
+  mapper.finish();
+  CameraView view = camera();
+  view.image = picture();
+  ViewMemory memory;
+  mapper.refine({&view, true, nullptr, nullptr, &memory}, Isometry3d::Identity());
+  ASSERT_FALSE(memory.empty());
+  const SemanticMesh& mesh = mapper.mesh();
+  EXPECT_EQ(memory.vertices, mesh.vertexCount());
+  EXPECT_EQ(memory.depth.width(), 200);
+  std::vector<Eigen::Vector3f> variance_before;
+  for (std::uint32_t v = 0; v < mesh.vertexCount(); ++v) variance_before.push_back(mesh.colourVariance(v));
+
+  // Then the right half of the wall (partly behind the board) and a patch at 8 m in front of the
+  // left half, where the view's reference depth says 10 m.
+  PointCloud later = half(wall(10.05f, 4.0f, 2.0f), false);
+  for (const auto& p : wall(8.05f, 0.5f, 0.5f).points) later.points.emplace_back(p.x(), p.y() - 2.3f, p.z());
+  mapper.integrate(later, Isometry3d::Identity());
+  mapper.finish();
+  ASSERT_GT(mesh.vertexCount(), memory.vertices);
+
+  const RefinementStats stats = mapper.revisit(view, memory);
+  std::size_t seen = 0, hidden = 0, in_front = 0;
+  for (std::uint32_t v = memory.vertices; v < mesh.vertexCount(); ++v) {
+    const Eigen::Vector3f p = mesh.positions()[v];
+    if (p.x() < 9.0f) {
+      EXPECT_FALSE(mesh.hasColour(v)) << p.transpose();  // the patch in front of the known wall
+      ++in_front;
+    } else if (std::abs(p.y()) < 1.6f && std::abs(p.z()) < 1.6f) {
+      EXPECT_FALSE(mesh.hasColour(v)) << p.transpose();  // behind the board
+      ++hidden;
+    } else if (p.y() > 2.2f) {
+      ASSERT_TRUE(mesh.hasColour(v)) << p.transpose();
+      EXPECT_NEAR(mesh.colourMean(v).x(), 0.2158f, 0.01f);  // the wall's grey, not the board's red
+      ++seen;
+    }
+  }
+  EXPECT_GT(seen, 500u);
+  EXPECT_GT(hidden, 200u);
+  EXPECT_GT(in_front, 50u);
+  EXPECT_GE(stats.vertices_updated, seen);
+  EXPECT_FALSE(stats.voxels.empty());
+  // What the refinement coloured is left as it was.
+  for (std::uint32_t v = 0; v < memory.vertices; ++v) {
+    ASSERT_EQ(mesh.colourVariance(v), variance_before[v]) << v;
+  }
+  // A second revisit finds nothing new to colour.
+  EXPECT_EQ(mapper.revisit(view, memory).vertices_updated, 0u);
+  // A memory from another image size is refused, an empty one does nothing.
+  ViewMemory wrong = memory;
+  wrong.depth = ImageU16(10, 10, 1);
+  EXPECT_THROW(mapper.revisit(view, wrong), std::invalid_argument);
+  EXPECT_EQ(mapper.revisit(view, ViewMemory{}).vertices_updated, 0u);
 }
 
 }  // namespace

@@ -111,13 +111,15 @@ TEST(RunPipeline, DamagedScanIsSkippedAndCounted) {
 TEST(RunPipeline, NegativeTextureDelayIsAnError) {
   auto dataset = datasets::openDataset(recording(), datasets::DatasetFormat::kAuto, noImages());
   ASSERT_TRUE(dataset);
-  pipeline::RunParams params;
-  params.texture_delay = -1;
-  test::TempDir out;
-  auto report = pipeline::runPipeline(**dataset, params, out.path(), "{}\n");
-  ASSERT_FALSE(report);
-  EXPECT_NE(report.status().message().find("texture_delay"), std::string::npos) << report.status().toString();
-  EXPECT_FALSE(fs::exists(out / "config.json"));  // refused before anything is written
+  for (const char* setting : {"texture_delay", "texture_revisit"}) {
+    pipeline::RunParams params;
+    (std::string(setting) == "texture_delay" ? params.texture_delay : params.texture_revisit) = -1;
+    test::TempDir out;
+    auto report = pipeline::runPipeline(**dataset, params, out.path(), "{}\n");
+    ASSERT_FALSE(report) << setting;
+    EXPECT_NE(report.status().message().find(setting), std::string::npos) << report.status().toString();
+    EXPECT_FALSE(fs::exists(out / "config.json"));  // refused before anything is written
+  }
 }
 
 // The simulated recording's poses withheld: registration alone must find them.

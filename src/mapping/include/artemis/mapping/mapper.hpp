@@ -42,16 +42,16 @@ struct MapperParams {
 struct FrameStats {
   double insert_ms = 0.0;
   double mesh_ms = 0.0;
-  double fuse_ms = 0.0;           // semantic fusion (1b), when the frame came with an observation
-  double constrain_ms = 0.0;      // semantic constraint (1d): cutting faces and moving vertices
-  std::size_t points = 0;         // points given
-  std::size_t points_kept = 0;    // new mesh vertices
+  double fuse_ms = 0.0;                    // semantic fusion (1b), when the frame came with an observation
+  double constrain_ms = 0.0;               // semantic constraint (1d): cutting faces and moving vertices
+  std::size_t points = 0;                  // points given
+  std::size_t points_kept = 0;             // new mesh vertices
   std::size_t points_in_vehicle_path = 0;  // dropped: inside the vehicle's box at this or an earlier pose
-  std::size_t active_voxels = 0;  // voxels that gained points
-  std::size_t meshed_voxels = 0;  // voxels re-meshed this frame
+  std::size_t active_voxels = 0;           // voxels that gained points
+  std::size_t meshed_voxels = 0;           // voxels re-meshed this frame
   std::size_t semantic_observations = 0;
-  std::size_t faces_cut = 0;           // faces the semantic constraint cut (1d)
-  ConstraintStats constraint;          // the semantic constraint's patch, solve and times (1d)
+  std::size_t faces_cut = 0;   // faces the semantic constraint cut (1d)
+  ConstraintStats constraint;  // the semantic constraint's patch, solve and times (1d)
 };
 
 // A frame's segmented camera view, for semantic fusion.
@@ -73,6 +73,8 @@ class Mapper {
   // Stage 2: refines the colours and classes of the vertices `input.view` sees from the LiDAR pose
   // `T_W_L` (Refinement::refine).
   RefinementStats refine(const RefinementInput& input, const Isometry3d& T_W_L);
+  // Stage 2 again for a view refined earlier: colours the vertices added since (Refinement::revisit).
+  RefinementStats revisit(const CameraView& view, const ViewMemory& memory);
   // Gives `cls` a semantic slot (a class newly prompted); see SemanticMesh::addSemanticClass.
   void addSemanticClass(semantics::ClassId cls) { mesh_.addSemanticClass(cls); }
   // Meshes every voxel with points added since it was last meshed (and applies the semantic

@@ -38,16 +38,26 @@
 // W is computed for every visible vertex first; the texture and the semantic updates then run in
 // parallel (each vertex is one voxel's, so the updates of different vertices never meet).
 //
+// A view sees surface the LiDAR meshes only later (a forward camera sees the road and walls ahead
+// long before the vehicle is near enough to mesh them), so a textured view may be kept after its
+// refinement and revisited (revisit()): it then colours the vertices added to the map since that
+// are still without colour, with the same W and update, against the reference depth of its
+// refinement. A new vertex where that depth had a nearer surface is hidden; one where it had a
+// farther surface is turned away too (r_geom cannot tell a new occluder from a new surface behind
+// it), and one where it had none takes the view's colour. Each view observes each vertex at most once.
+//
 // Culling costs in proportion to what is visible: the voxel map's 6.4 m blocks are tested against
 // the view frustum first, then the voxels of the blocks in view; only their faces are rendered and
 // only their vertices updated. Results do not depend on the thread count.
 
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
 #include <Eigen/Core>
 
 #include "artemis/core/frame.hpp"
+#include "artemis/core/image.hpp"
 #include "artemis/core/point_cloud.hpp"
 #include "artemis/core/projection.hpp"
 #include "artemis/core/transform.hpp"
@@ -96,6 +106,20 @@ struct RefinementStats {
   std::vector<std::uint32_t> voxels;
 };
 
+// What a refined view keeps for its revisit: the reference depth of its refinement in 2 mm steps
+// (kNoDepth where none), its exposure gain and camera pose, and how far the map was then.
+struct ViewMemory {
+  static constexpr std::uint16_t kNoDepth = 0xFFFF;
+  static constexpr float kDepthStepM = 0.002f;  // 131 m at most, farther than max_range_m
+  ImageU16 depth;
+  double gain = 1.0;
+  Isometry3d T_W_C = Isometry3d::Identity();
+  std::uint32_t vertices = 0;  // the mesh's vertex count then: vertices with larger ids are new to the view
+  [[nodiscard]] bool empty() const { return depth.empty(); }
+  // Bytes held (for the run's memory figures).
+  [[nodiscard]] std::size_t bytes() const { return depth.data().size() * sizeof(std::uint16_t); }
+};
+
 // What one view refines: its colours (unless the frame is held out of texturing) and, when the
 // frame was segmented, its classes.
 struct RefinementInput {
@@ -103,6 +127,7 @@ struct RefinementInput {
   bool texture = true;
   const semantics::SemanticObservation* observation = nullptr;  // nullptr: no semantic update
   const PointCloud* points_L = nullptr;                         // the frame's LiDAR points: checks the reference depth
+  ViewMemory* memory = nullptr;  // when given and the view is textured: filled for a later revisit()
 };
 
 // The voxels of `map` whose bounds may be in the view: blocks first, then voxels. Indices into
@@ -118,6 +143,11 @@ class Refinement {
   // Refines the colours and classes of the vertices `input.view` sees from the LiDAR pose `T_W_L`.
   RefinementStats refine(const VoxelMap& map, SemanticMesh& mesh, const RefinementInput& input,
                          const Isometry3d& T_W_L);
+
+  // Colours, from `view` refined earlier with `memory`, the vertices added to the mesh since that
+  // are still without colour and that it sees (texture only: its classes were taken once). The
+  // camera pose is the memory's. Costs in proportion to the vertices added since.
+  RefinementStats revisit(SemanticMesh& mesh, const CameraView& view, const ViewMemory& memory);
 
   [[nodiscard]] const RefinementParams& params() const { return params_; }
 

@@ -41,6 +41,8 @@ class SemanticMesh {
   [[nodiscard]] const std::vector<Eigen::Vector3f>& positions() const { return positions_; }
   [[nodiscard]] const std::vector<Eigen::Vector3f>& normals() const { return normals_; }
   [[nodiscard]] const std::vector<VoxelKey>& voxels() const { return voxels_; }
+  // The dense index (VoxelMap's) of each vertex's voxel, as given to addVertex.
+  [[nodiscard]] const std::vector<std::uint32_t>& voxelIndices() const { return voxel_index_; }
   // Unit direction from the vertex towards the sensor that first saw it.
   [[nodiscard]] const std::vector<Eigen::Vector3f>& viewDirections() const { return views_; }
   // Where the LiDAR measured the vertex; positions() may differ once the semantic constraint

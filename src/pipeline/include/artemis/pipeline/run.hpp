@@ -79,11 +79,19 @@ struct RunParams {
   // meshing): the LiDAR meshes the ground and walls in front of the camera only as the vehicle
   // nears them, so a view refined at once misses much of what it shows, and the final mesh keeps
   // them uncoloured. Each view is still refined once; it waits with its scan, image and masks
-  // (about 4 MB a frame at KITTI's size). Held-out PSNR (every 5th view) at 0 / 5 / 10 / 15 frames:
-  // simulated street (200 frames) 19.01 / 20.06 / 20.53 / 20.73 dB; KITTI drive 0013 (frames 0-49)
-  // 12.75 / 12.97 / 13.10 / 13.18 dB, while refinement's median there grows 12.3 / 16.6 / 22.0 /
-  // 26.2 ms (a view sees more mesh): 10 is the longest delay within 25 ms a frame.
-  int texture_delay = 10;
+  // (about 4 MB a frame at KITTI's size). A longer delay costs time (a view sees more mesh:
+  // KITTI drive 0013's refinement median grew 12.3 / 16.6 / 22.0 / 26.2 ms at 0 / 5 / 10 / 15
+  // frames), so the rest is left to the revisit below.
+  int texture_delay = 5;
+  // A textured view is kept after its refinement until frame i + texture_revisit, and then colours
+  // the vertices added since that are still without colour and that it sees (Refinement::revisit):
+  // surface meshed after every view that saw it had been refined. It waits with its image and
+  // reference depth (about 2.3 MB a frame at KITTI's size); it costs in proportion to the vertices
+  // added since (about 1.2 ms a KITTI-sized simulated frame at 60). 0, or a value not above
+  // texture_delay: no revisit. Held-out PSNR (every 5th view), simulated street (200 frames):
+  // delay 10 alone 20.53 dB; delay 5 with revisit 40 / 60 20.92 / 21.17 dB (plain averaging
+  // 19.98 / 19.94); KITTI drive 0013 (frames 0-49): 13.10 / 13.20 / 13.11 dB.
+  int texture_revisit = 60;
   FrameObserver observer;  // optional
 };
 
@@ -97,7 +105,7 @@ struct RunReport {
   // per frame.
   StageTimes times;
   double finish_ms = 0.0;
-  std::size_t faces_cut = 0;  // by the semantic constraint, over the frames (not the final meshing)
+  std::size_t faces_cut = 0;               // by the semantic constraint, over the frames (not the final meshing)
   std::size_t points_in_vehicle_path = 0;  // returns dropped inside the vehicle's box (MapperParams)
   double peak_rss_mb = 0.0;
   std::vector<registration::FrameRegistration> registrations;  // one per mapped frame, with refinement
