@@ -1,7 +1,8 @@
 // What semantic fusion (stage 1b) costs the mapping pipeline, on the simulated street with
 // KITTI-sized scans (~120k points) and images (1242 x 375): per frame, the mapper's time (insert,
 // fusion, meshing) with and without semantics, median and p95, and the fusion stage alone. The
-// simulated segmenter's time is printed apart (a real segmenter runs on its own, and on a GPU).
+// simulated segmenter's time is printed apart (a real segmenter runs on its own, and on a GPU), and
+// so is the time to ground a typed query.
 //
 //   build/bench/semantics_bench [--frames N] [--threads N] [--noise none|standard|heavy]
 // Frames are simulated before the clock starts; both mappers see the same frames, one after the
@@ -17,6 +18,7 @@
 
 #include "artemis/core/timer.hpp"
 #include "artemis/mapping/mapper.hpp"
+#include "artemis/semantics/query_grounder.hpp"
 #include "artemis/semantics/simulated_segmenter.hpp"
 #include "artemis/sim/simulator.hpp"
 #include "bench_stats.hpp"
@@ -27,6 +29,43 @@ namespace {
 using namespace artemis;
 
 using bench::percentiles;
+
+// What grounding a typed query costs (alias table, then WordNet), once WordNet's pages are read.
+void groundingTimes() {
+  auto grounder = semantics::QueryGrounder::create(semantics::Vocabulary::semanticKitti());
+  if (!grounder) {
+    fmt::print("query grounding: not timed ({})\n", grounder.status().message());
+    return;
+  }
+  const std::vector<std::string> queries{"highlight the parked cars and the people",
+                                         "show me vegetation",
+                                         "sedans",
+                                         "pedestrians",
+                                         "lorries",
+                                         "street lamps",
+                                         "the pavement",
+                                         "vehicles",
+                                         "Traffic Signs",
+                                         "the road and the sidewalks",
+                                         "fences, poles and trunks",
+                                         "trees and bushes",
+                                         "buses and trams",
+                                         "the ground",
+                                         "convertibles and hatchbacks",
+                                         "highlight the oaks"};
+  for (const std::string& q : queries) (void)grounder->ground(q);  // WordNet's pages read once
+  std::vector<double> ms;
+  for (int round = 0; round < 20; ++round) {
+    for (const std::string& q : queries) {
+      artemis::Stopwatch clock;
+      (void)grounder->ground(q);
+      ms.push_back(clock.elapsedMs());
+    }
+  }
+  const auto t = percentiles(ms);
+  fmt::print("query grounding ({} phrases x 20): {:.3f} / {:.3f} ms (median / p95), {:.3f} ms at most\n",
+             queries.size(), t.median, t.p95, *std::max_element(ms.begin(), ms.end()));
+}
 
 }  // namespace
 
@@ -122,5 +161,6 @@ int main(int argc, char** argv) {
   fmt::print("  of which (medians) gathering the patch {:.2f} ms, its adjacency {:.2f} ms, the sweep {:.2f} ms\n",
              percentiles(patch_ms).median, percentiles(build_ms).median, percentiles(solve_ms).median);
   fmt::print("simulated segmentation ({} noise), apart: {:.2f} / {:.2f} ms\n", noise_name, g.median, g.p95);
+  groundingTimes();
   return 0;
 }
