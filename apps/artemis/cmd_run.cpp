@@ -417,7 +417,7 @@ void printSummary(const RunFlags& flags, const pipeline::RunReport& report_value
   }
   if (!report->times.samples("revisit").empty()) {
     const auto revisit = report->times.summary("revisit");
-    fmt::print("texture revisit per frame (median / p95 ms) {:.1f} / {:.1f}\n", revisit.median_ms, revisit.p95_ms);
+    fmt::print("texture revisit per view (median / p95 ms) {:.1f} / {:.1f}\n", revisit.median_ms, revisit.p95_ms);
   }
   if (semantic_on) {
     const auto fuse = report->times.summary("fuse");

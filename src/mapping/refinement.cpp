@@ -80,14 +80,17 @@ struct Candidate {
   float reliability = 0.0f;  // W
   int u = 0;                 // nearest pixel
   int v = 0;
-  bool valid = false;
+  bool valid = false;    // projects into the image
+  bool sampled = false;  // its colour was read (not when r_geom alone rules it out)
 };
 
 // Where a candidate's W must fall below min_reliability whatever its colour: r_geom / sigma_geom
-// above sqrt(-2 ln min_reliability). Its colour is then not sampled.
+// above sqrt(-2 ln min_reliability), with a margin for rounding, and never below sigma_geom (the
+// exposure gain reads the colours of candidates up to sigma_geom). Its colour is then not sampled.
 float hiddenResidual(const RefinementParams& params) {
   if (!params.reliability || !(params.min_reliability > 0.0)) return std::numeric_limits<float>::infinity();
-  return static_cast<float>(params.sigma_geom * std::sqrt(-2.0 * std::log(params.min_reliability)));
+  const double w_bound = params.sigma_geom * std::sqrt(-2.0 * std::log(params.min_reliability));
+  return static_cast<float>(std::max(w_bound, params.sigma_geom) * (1.0 + 1e-4));
 }
 
 // Step 3 for one vertex: its pixel, the colour there (bilinear, linear RGB) and r_geom against
@@ -124,6 +127,7 @@ class ViewSampler {
     c.r_geom = std::isfinite(d_ref) ? std::abs(p_C.z() - d_ref) / std::max(d_ref, epsilon_) : 0.0f;
     c.valid = true;
     if (c.r_geom > hidden_) return true;  // W will be 0 whatever the colour
+    c.sampled = true;
     const int u0 = std::min(static_cast<int>(u), w_ - 2 < 0 ? 0 : w_ - 2);
     const int v0 = std::min(static_cast<int>(v), h_ - 2 < 0 ? 0 : h_ - 2);
     const float a = u - static_cast<float>(u0);
@@ -184,7 +188,10 @@ void weigh(std::vector<Candidate>& candidates, const SemanticMesh& mesh, const R
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, candidates.size(), 4096), [&](const auto& range) {
     for (std::size_t k = range.begin(); k < range.end(); ++k) {
       Candidate& c = candidates[k];
-      if (!c.valid) continue;
+      if (!c.sampled) {
+        c.reliability = 0.0f;
+        continue;
+      }
       c.colour *= inv_gain;
       float reliability = 1.0f;
       if (params.reliability) {
@@ -312,9 +319,10 @@ RefinementStats Refinement::refine(const VoxelMap& map, SemanticMesh& mesh, cons
     const std::vector<float>& z = reference.depth.data();
     std::vector<std::uint16_t>& q = memory->depth.data();
     constexpr float kMaxSteps = static_cast<float>(ViewMemory::kNoDepth - 1);
-    for (std::size_t k = 0; k < q.size(); ++k) {
-      const float steps = z[k] / ViewMemory::kDepthStepM;
-      q[k] = steps < kMaxSteps ? static_cast<std::uint16_t>(std::lround(steps)) : ViewMemory::kNoDepth;
+    for (std::size_t k = 0; k < q.size(); ++k) {  // a surface beyond 131 m stays one, at 131 m
+      q[k] = std::isfinite(z[k])
+                 ? static_cast<std::uint16_t>(std::lround(std::clamp(z[k] / ViewMemory::kDepthStepM, 0.0f, kMaxSteps)))
+                 : ViewMemory::kNoDepth;
     }
     memory->T_W_C = T_W_C;
     memory->vertices = static_cast<std::uint32_t>(mesh.vertexCount());
@@ -333,7 +341,7 @@ RefinementStats Refinement::refine(const VoxelMap& map, SemanticMesh& mesh, cons
   if (params_.exposure_gain) {
     std::vector<float> ratios;
     for (const Candidate& c : candidates) {
-      if (!c.valid || c.r_geom > static_cast<float>(params_.sigma_geom) || !mesh.hasColour(c.vertex)) continue;
+      if (!c.sampled || c.r_geom > static_cast<float>(params_.sigma_geom) || !mesh.hasColour(c.vertex)) continue;
       const float mapped = luminance(mesh.colourMean(c.vertex));
       const float seen = luminance(c.colour);
       if (mapped > 0.02f && seen > 0.02f) ratios.push_back(seen / mapped);
@@ -423,9 +431,10 @@ RefinementStats Refinement::revisit(SemanticMesh& mesh, const CameraView& view, 
                                 "x" + std::to_string(memory.depth.height()) + " but its image " +
                                 std::to_string(view.image.width()) + "x" + std::to_string(view.image.height()));
   }
-  if (memory.vertices >= mesh.vertexCount()) return stats;  // nothing new
+  const auto end = static_cast<std::uint32_t>(mesh.vertexCount());
+  if (memory.vertices >= end) return stats;  // nothing new
 
-  // The vertices added since, still without colour: ids from memory.vertices on, read in order.
+  // The vertices added since, still without colour.
   Stopwatch clock;
   const ImageU16& depth = memory.depth;
   const auto depth_at = [&depth](int u, int v) {
@@ -434,7 +443,6 @@ RefinementStats Refinement::revisit(SemanticMesh& mesh, const CameraView& view, 
                                      : static_cast<float>(q) * ViewMemory::kDepthStepM;
   };
   const ViewSampler sampler(view, memory.T_W_C, params_, static_cast<float>(params_.max_range_m));
-  const auto end = static_cast<std::uint32_t>(mesh.vertexCount());
   tbb::enumerable_thread_specific<std::vector<Candidate>> found;
   tbb::parallel_for(tbb::blocked_range<std::uint32_t>(memory.vertices, end, 4096), [&](const auto& range) {
     std::vector<Candidate>& mine = found.local();

@@ -254,11 +254,12 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
   };
   std::deque<KeptView> kept;
   const bool revisits = params.texture && params.texture_revisit > params.texture_delay;
-  const auto refineView = [&](DelayedView& d) {
+  // `keep`: the view is kept for a revisit (not after the final meshing: nothing is added since).
+  const auto refineView = [&](DelayedView& d, bool keep) {
     Stopwatch refine_clock;
     mapping::ViewMemory memory;
     const mapping::RefinementInput input{&d.frame.cameras[d.camera], d.texture, d.semantics ? &d.observation : nullptr,
-                                         &d.frame.points_L, revisits && d.texture ? &memory : nullptr};
+                                         &d.frame.points_L, keep && revisits && d.texture ? &memory : nullptr};
     const mapping::RefinementStats r = mapper.refine(input, d.T_W_L);
     if (!memory.empty()) kept.push_back({std::move(d.frame.cameras[d.camera]), std::move(memory), d.i, d.frame.index});
     report.times.add("refine", refine_clock.elapsedMs());
@@ -275,10 +276,8 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
     Stopwatch clock;
     const mapping::RefinementStats r = mapper.revisit(k.view, k.memory);
     report.times.add("revisit", clock.elapsedMs());
-    log::debug(
-        "frame {}: revisit: {} voxels in view with new vertices, {} of them in view, {} coloured; cull {:.1f} ms, "
-        "fuse {:.1f} ms",
-        k.index, r.voxels_in_view, r.vertices_in_view, r.vertices_updated, r.cull_ms, r.fuse_ms);
+    log::debug("frame {}: revisit: {} grey vertices added since in view, {} coloured (in {} voxels); {:.1f} ms",
+               k.index, r.vertices_in_view, r.vertices_updated, r.voxels_in_view, clock.elapsedMs());
     return r;
   };
 
@@ -423,7 +422,7 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
     // The views now due (one a frame, more after an unreadable frame); the observer hears of all
     // they looked at.
     while (!delayed.empty() && delayed.front().i + static_cast<std::size_t>(params.texture_delay) <= i) {
-      mapping::RefinementStats r = refineView(delayed.front());
+      mapping::RefinementStats r = refineView(delayed.front(), true);
       delayed.pop_front();
       if (refined) r.voxels.insert(r.voxels.begin(), refined->voxels.begin(), refined->voxels.end());
       refined = std::move(r);
@@ -458,7 +457,7 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
   // The views still waiting, against the final mesh; the observer hears of all they looked at.
   mapping::RefinementStats flushed;
   for (; !delayed.empty(); delayed.pop_front()) {
-    const mapping::RefinementStats r = refineView(delayed.front());
+    const mapping::RefinementStats r = refineView(delayed.front(), false);
     flushed.voxels.insert(flushed.voxels.end(), r.voxels.begin(), r.voxels.end());
   }
   for (; !kept.empty(); kept.pop_front()) {

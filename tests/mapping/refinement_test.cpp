@@ -136,45 +136,64 @@ TEST(TextureRefinement, CullingKeepsTheVoxelsInViewOnly) {
   EXPECT_EQ(ahead, front_voxels);
 }
 
-// A view kept after its refinement colours, when revisited, the vertices scanned since that it
-// saw: not those hidden behind a surface of its reference depth, nor those in front of one (a new
-// occluder or a new surface, r_geom cannot tell), and never a vertex twice.
-TEST(TextureRefinement, ARevisitColoursWhatWasScannedAfterTheRefinement) {
-  Mapper mapper{MapperParams{}};
-  const auto half = [](const PointCloud& cloud, bool left) {
-    PointCloud out;
-    for (const auto& p : cloud.points) {
-      if ((p.y() < 0.0f) == left) out.points.push_back(p);
-    }
-    return out;
+// The revisit scene: a board at 5 m and the left half of a wall at 10 m, with one 0.1 m cell in
+// 16 left empty, scanned, meshed and refined with the view kept; then the empty cells, the right
+// half of the wall (partly behind the board) and a patch at 8 m in front of the left half.
+struct RevisitScene {
+  std::unique_ptr<Mapper> mapper;
+  CameraView view = camera();
+  ViewMemory memory;
+  std::vector<Eigen::Vector3f> variance_before;  // of the vertices the refinement saw
+  RefinementStats stats;                         // the revisit's
+};
+
+RevisitScene revisitScene(int threads) {
+  RevisitScene scene;
+  MapperParams params;
+  params.threads = threads;
+  scene.mapper = std::make_unique<Mapper>(params);
+  const auto gap = [](const Eigen::Vector3f& p) {
+    const auto cell = [](float a) { return static_cast<int>(std::floor(a / 0.1f + 1e-4f)); };
+    return p.y() < 0.0f && cell(p.y() + 4.0f) % 4 == 1 && cell(p.z() + 2.0f) % 4 == 1;
   };
-  // First the board at 5 m and the left half of the wall at 10 m.
-  PointCloud first = half(wall(10.05f, 4.0f, 2.0f), true);
+  PointCloud first;
+  PointCloud later;
+  for (const auto& p : wall(10.05f, 4.0f, 2.0f).points) (p.y() < 0.0f && !gap(p) ? first : later).points.push_back(p);
   const PointCloud board = wall(5.05f, 1.0f, 1.0f);
   first.points.insert(first.points.end(), board.points.begin(), board.points.end());
-  mapper.integrate(first, Isometry3d::Identity());
-  mapper.finish();
-  CameraView view = camera();
-  view.image = picture();
-  ViewMemory memory;
-  mapper.refine({&view, true, nullptr, nullptr, &memory}, Isometry3d::Identity());
+  for (const auto& p : wall(8.05f, 0.5f, 0.5f).points) later.points.emplace_back(p.x(), p.y() - 2.3f, p.z());
+  scene.mapper->integrate(first, Isometry3d::Identity());
+  scene.mapper->finish();
+  scene.view.image = picture();
+  scene.mapper->refine({&scene.view, true, nullptr, nullptr, &scene.memory}, Isometry3d::Identity());
+  const SemanticMesh& mesh = scene.mapper->mesh();
+  for (std::uint32_t v = 0; v < mesh.vertexCount(); ++v) scene.variance_before.push_back(mesh.colourVariance(v));
+  scene.mapper->integrate(later, Isometry3d::Identity());
+  scene.mapper->finish();
+  scene.stats = scene.mapper->revisit(scene.view, scene.memory);
+  return scene;
+}
+
+// A view kept after its refinement colours, when revisited, the vertices scanned since that it
+// saw where its reference depth had the same surface or none: not those hidden behind a nearer
+// surface, nor those in front of one (a new occluder or a new surface, r_geom cannot tell), and
+// never a vertex twice.
+TEST(TextureRefinement, ARevisitColoursWhatWasScannedAfterTheRefinement) {
+  RevisitScene scene = revisitScene(0);
+  const Mapper& mapper = *scene.mapper;
+  const ViewMemory& memory = scene.memory;
   ASSERT_FALSE(memory.empty());
   const SemanticMesh& mesh = mapper.mesh();
-  EXPECT_EQ(memory.vertices, mesh.vertexCount());
-  EXPECT_EQ(memory.depth.width(), 200);
-  std::vector<Eigen::Vector3f> variance_before;
-  for (std::uint32_t v = 0; v < mesh.vertexCount(); ++v) variance_before.push_back(mesh.colourVariance(v));
-
-  // Then the right half of the wall (partly behind the board) and a patch at 8 m in front of the
-  // left half, where the view's reference depth says 10 m.
-  PointCloud later = half(wall(10.05f, 4.0f, 2.0f), false);
-  for (const auto& p : wall(8.05f, 0.5f, 0.5f).points) later.points.emplace_back(p.x(), p.y() - 2.3f, p.z());
-  mapper.integrate(later, Isometry3d::Identity());
-  mapper.finish();
+  EXPECT_EQ(memory.vertices, scene.variance_before.size());
+  ASSERT_EQ(memory.depth.width(), 200);
+  // The reference depth in 2 mm steps: the board ahead, the wall's left half, nothing on the right
+  // (y = -3 m at 10.05 m is pixel u = 99.5 + 100 * 3 / 10.05).
+  EXPECT_NEAR(memory.depth.at(100, 50), 5.05 / 0.002, 2.0);
+  EXPECT_NEAR(memory.depth.at(129, 50), 10.05 / 0.002, 2.0);
+  EXPECT_EQ(memory.depth.at(60, 50), ViewMemory::kNoDepth);
   ASSERT_GT(mesh.vertexCount(), memory.vertices);
 
-  const RefinementStats stats = mapper.revisit(view, memory);
-  std::size_t seen = 0, hidden = 0, in_front = 0;
+  std::size_t filled = 0, seen = 0, hidden = 0, in_front = 0;
   for (std::uint32_t v = memory.vertices; v < mesh.vertexCount(); ++v) {
     const Eigen::Vector3f p = mesh.positions()[v];
     if (p.x() < 9.0f) {
@@ -183,28 +202,45 @@ TEST(TextureRefinement, ARevisitColoursWhatWasScannedAfterTheRefinement) {
     } else if (std::abs(p.y()) < 1.6f && std::abs(p.z()) < 1.6f) {
       EXPECT_FALSE(mesh.hasColour(v)) << p.transpose();  // behind the board
       ++hidden;
-    } else if (p.y() > 2.2f) {
+    } else if (std::abs(p.y()) > 2.2f) {
+      // The wall's grey, not the board's red: in the left half's gaps against the depth of the
+      // wall around them, on the right where the view had no depth.
       ASSERT_TRUE(mesh.hasColour(v)) << p.transpose();
-      EXPECT_NEAR(mesh.colourMean(v).x(), 0.2158f, 0.01f);  // the wall's grey, not the board's red
-      ++seen;
+      EXPECT_NEAR(mesh.colourMean(v).x(), 0.2158f, 0.01f);
+      ++(p.y() < 0.0f ? filled : seen);
     }
   }
+  EXPECT_GT(filled, 40u);
   EXPECT_GT(seen, 500u);
   EXPECT_GT(hidden, 200u);
   EXPECT_GT(in_front, 50u);
-  EXPECT_GE(stats.vertices_updated, seen);
-  EXPECT_FALSE(stats.voxels.empty());
+  EXPECT_GE(scene.stats.vertices_updated, filled + seen);
+  EXPECT_FALSE(scene.stats.voxels.empty());
   // What the refinement coloured is left as it was.
   for (std::uint32_t v = 0; v < memory.vertices; ++v) {
-    ASSERT_EQ(mesh.colourVariance(v), variance_before[v]) << v;
+    ASSERT_EQ(mesh.colourVariance(v), scene.variance_before[v]) << v;
   }
   // A second revisit finds nothing new to colour.
-  EXPECT_EQ(mapper.revisit(view, memory).vertices_updated, 0u);
+  EXPECT_EQ(scene.mapper->revisit(scene.view, memory).vertices_updated, 0u);
   // A memory from another image size is refused, an empty one does nothing.
   ViewMemory wrong = memory;
   wrong.depth = ImageU16(10, 10, 1);
-  EXPECT_THROW(mapper.revisit(view, wrong), std::invalid_argument);
-  EXPECT_EQ(mapper.revisit(view, ViewMemory{}).vertices_updated, 0u);
+  EXPECT_THROW(scene.mapper->revisit(scene.view, wrong), std::invalid_argument);
+  EXPECT_EQ(scene.mapper->revisit(scene.view, ViewMemory{}).vertices_updated, 0u);
+}
+
+TEST(TextureRefinement, ARevisitDoesNotDependOnTheThreadCount) {
+  const RevisitScene one = revisitScene(1);
+  const RevisitScene two = revisitScene(2);
+  const SemanticMesh& a = one.mapper->mesh();
+  const SemanticMesh& b = two.mapper->mesh();
+  ASSERT_EQ(a.vertexCount(), b.vertexCount());
+  EXPECT_EQ(one.stats.vertices_updated, two.stats.vertices_updated);
+  EXPECT_EQ(one.stats.voxels, two.stats.voxels);
+  for (std::uint32_t v = 0; v < a.vertexCount(); ++v) {
+    ASSERT_EQ(a.colourMean(v), b.colourMean(v)) << v;
+    ASSERT_EQ(a.colourVariance(v), b.colourVariance(v)) << v;
+  }
 }
 
 }  // namespace

@@ -122,6 +122,25 @@ TEST(RunPipeline, NegativeTextureDelayIsAnError) {
   }
 }
 
+// Every textured view is revisited once; held-out views are neither refined nor kept, so their
+// images never colour the mesh they are scored against.
+TEST(RunPipeline, EachTexturedViewIsRevisitedOnceAndHeldOutViewsNever) {
+  auto dataset = datasets::openDataset(recording(), datasets::DatasetFormat::kAuto, datasets::DatasetOptions{});
+  ASSERT_TRUE(dataset);
+  pipeline::RunParams params;
+  params.texture = true;
+  params.texture_holdout = 2;
+  params.texture_delay = 0;
+  params.texture_revisit = 1;
+  test::TempDir out;
+  auto report = pipeline::runPipeline(**dataset, params, out.path(), "{}\n");
+  ASSERT_TRUE(report) << report.status().toString();
+  EXPECT_EQ(report->held_out_frames.size(), 2u);
+  EXPECT_EQ(report->frames_textured, 2u);
+  EXPECT_EQ(report->times.samples("refine").size(), 2u);
+  EXPECT_EQ(report->times.samples("revisit").size(), 2u);
+}
+
 // The simulated recording's poses withheld: registration alone must find them.
 TEST(RunPipeline, RefinementWithoutPosesRecoversTheTrajectory) {
   auto dataset = datasets::openDataset(recording(), datasets::DatasetFormat::kAuto, noImages());

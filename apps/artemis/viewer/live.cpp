@@ -11,20 +11,20 @@ LivePublisher::LivePublisher(Scene& scene, std::int32_t block_voxels, double int
 
 void LivePublisher::onFrame(const pipeline::FrameUpdate& update) {
   const auto mark = [&](const mapping::VoxelKey& v) {
-    // The voxel's block and those of its neighbours across a block face, edge or corner.
-    for (const int dx : {-1, 1}) {
-      for (const int dy : {-1, 1}) {
-        for (const int dz : {-1, 1}) {
-          dirty_.insert(mapping::coarserKey({v.x + dx, v.y + dy, v.z + dz}, block_voxels_));
-        }
+    // The voxel's block and those of its neighbours across a block face, edge or corner (one block
+    // for a voxel inside its block).
+    const auto lo = mapping::coarserKey({v.x - 1, v.y - 1, v.z - 1}, block_voxels_);
+    const auto hi = mapping::coarserKey({v.x + 1, v.y + 1, v.z + 1}, block_voxels_);
+    for (auto x = lo.x; x <= hi.x; ++x) {
+      for (auto y = lo.y; y <= hi.y; ++y) {
+        for (auto z = lo.z; z <= hi.z; ++z) dirty_.insert({x, y, z});
       }
     }
   };
   for (const mapping::VoxelKey& v : update.mapper.mesh().changes().voxels) mark(v);
   if (update.refinement != nullptr) {
-    for (const std::uint32_t index : update.refinement->voxels) {
-      dirty_.insert(mapping::coarserKey(update.mapper.voxels().keyAt(index), block_voxels_));
-    }
+    // A face may use its neighbours' vertices: their blocks show new colours too.
+    for (const std::uint32_t index : update.refinement->voxels) mark(update.mapper.voxels().keyAt(index));
   }
   if (!update.finished) scene_.appendTrajectory(update.T_W_L.translation());
   if (update.finished || since_publish_.elapsedMs() >= 1000.0 * interval_s_) publish(update);

@@ -107,7 +107,8 @@ struct RefinementStats {
 };
 
 // What a refined view keeps for its revisit: the reference depth of its refinement in 2 mm steps
-// (kNoDepth where none), its exposure gain and camera pose, and how far the map was then.
+// (kNoDepth where none; a surface beyond 131 m is kept at 131 m), its exposure gain and camera
+// pose, and how far the map was then.
 struct ViewMemory {
   static constexpr std::uint16_t kNoDepth = 0xFFFF;
   static constexpr float kDepthStepM = 0.002f;  // 131 m at most, farther than max_range_m
@@ -116,8 +117,6 @@ struct ViewMemory {
   Isometry3d T_W_C = Isometry3d::Identity();
   std::uint32_t vertices = 0;  // the mesh's vertex count then: vertices with larger ids are new to the view
   [[nodiscard]] bool empty() const { return depth.empty(); }
-  // Bytes held (for the run's memory figures).
-  [[nodiscard]] std::size_t bytes() const { return depth.data().size() * sizeof(std::uint16_t); }
 };
 
 // What one view refines: its colours (unless the frame is held out of texturing) and, when the
