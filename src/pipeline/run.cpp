@@ -272,6 +272,14 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
         r.gain, r.cull_ms, r.depth_ms, r.fuse_ms);
     return r;
   };
+  // The voxels of every view refined or revisited in a frame (or at the end), for the observer.
+  const auto absorb = [](std::optional<mapping::RefinementStats>& into, mapping::RefinementStats r) {
+    if (into) {
+      into->voxels.insert(into->voxels.end(), r.voxels.begin(), r.voxels.end());
+    } else {
+      into = std::move(r);
+    }
+  };
   const auto revisitView = [&](const KeptView& k) {
     Stopwatch clock;
     const mapping::RefinementStats r = mapper.revisit(k.view, k.memory);
@@ -421,17 +429,12 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
     }
     // The views now due (one a frame, more after an unreadable frame); the observer hears of all
     // they looked at.
-    while (!delayed.empty() && delayed.front().i + static_cast<std::size_t>(params.texture_delay) <= i) {
-      mapping::RefinementStats r = refineView(delayed.front(), true);
-      delayed.pop_front();
-      if (refined) r.voxels.insert(r.voxels.begin(), refined->voxels.begin(), refined->voxels.end());
-      refined = std::move(r);
+    for (; !delayed.empty() && delayed.front().i + static_cast<std::size_t>(params.texture_delay) <= i;
+         delayed.pop_front()) {
+      absorb(refined, refineView(delayed.front(), true));
     }
-    while (!kept.empty() && kept.front().i + static_cast<std::size_t>(params.texture_revisit) <= i) {
-      mapping::RefinementStats r = revisitView(kept.front());
-      kept.pop_front();
-      if (refined) r.voxels.insert(r.voxels.begin(), refined->voxels.begin(), refined->voxels.end());
-      refined = std::move(r);
+    for (; !kept.empty() && kept.front().i + static_cast<std::size_t>(params.texture_revisit) <= i; kept.pop_front()) {
+      absorb(refined, revisitView(kept.front()));
     }
     report.times.add("total", frame_clock.elapsedMs() - segment_ms);
     trajectory += formatRowMajor3x4(T_W_L) + "\n";
@@ -455,18 +458,12 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
   mapper.finish();
   report.finish_ms = finish_clock.elapsedMs();
   // The views still waiting, against the final mesh; the observer hears of all they looked at.
-  mapping::RefinementStats flushed;
-  for (; !delayed.empty(); delayed.pop_front()) {
-    const mapping::RefinementStats r = refineView(delayed.front(), false);
-    flushed.voxels.insert(flushed.voxels.end(), r.voxels.begin(), r.voxels.end());
-  }
-  for (; !kept.empty(); kept.pop_front()) {
-    const mapping::RefinementStats r = revisitView(kept.front());
-    flushed.voxels.insert(flushed.voxels.end(), r.voxels.begin(), r.voxels.end());
-  }
+  std::optional<mapping::RefinementStats> flushed;
+  for (; !delayed.empty(); delayed.pop_front()) absorb(flushed, refineView(delayed.front(), false));
+  for (; !kept.empty(); kept.pop_front()) absorb(flushed, revisitView(kept.front()));
   if (params.observer) {
     params.observer({mapper, total, total, dataset.firstIndex() + total - 1, last_T.value_or(Isometry3d::Identity()),
-                     flushed.voxels.empty() ? nullptr : &flushed, report.times, true});
+                     flushed ? &*flushed : nullptr, report.times, true});
   }
   if (const std::size_t refused = mapper.voxels().rejectedPoints(); refused > 0) {
     log::warn("{} points more than 1000 km from the origin were refused (broken poses?)", refused);
