@@ -117,6 +117,7 @@ const AliasTable& AliasTable::builtin() {
     AliasTable t = std::move(parsed).value();
     for (auto& [key, entry] : t.aliases) entry.builtin = true;
     for (auto& [key, entry] : t.anchors) entry.builtin = true;
+    for (auto& [key, entry] : t.riders) entry.builtin = true;
     return t;
   }();
   return kTable;
@@ -133,10 +134,11 @@ Result<AliasTable> AliasTable::parse(std::string_view json, const std::string& o
   for (const auto& [key, value] : j.items()) {
     if (key.starts_with("comment")) continue;
     if (key != "extends_builtin" && key != "stop_words" && key != "general_words" && key != "aliases" &&
-        key != "anchors") {
-      return parseError(
-          fmt::format("{}: unknown key \"{}\" (expected extends_builtin, stop_words, general_words, aliases, anchors)",
-                      origin, key));
+        key != "anchors" && key != "riders" && key != "riding_words") {
+      return parseError(fmt::format(
+          "{}: unknown key \"{}\" (expected extends_builtin, stop_words, general_words, aliases, anchors, riders, "
+          "riding_words)",
+          origin, key));
     }
   }
   AliasTable t;
@@ -147,8 +149,16 @@ Result<AliasTable> AliasTable::parse(std::string_view json, const std::string& o
   for (Status s :
        {readWordSet(j, "stop_words", origin, t.stop_words), readWordSet(j, "general_words", origin, t.general_words),
         readEntries(j, "aliases", origin, &normalizePhrase, &className, t.aliases),
-        readEntries(j, "anchors", origin, &className, &anchorSpec, t.anchors)}) {
+        readEntries(j, "anchors", origin, &className, &anchorSpec, t.anchors),
+        readEntries(j, "riders", origin, &className, &className, t.riders),
+        readWordSet(j, "riding_words", origin, t.riding_words)}) {
     if (!s.isOk()) return s;
+  }
+  for (const auto& [rider, entry] : t.riders) {
+    if (entry.values.size() != 2) {
+      return parseError(fmt::format("{}: riders '{}': expected [the class of the human, the class of what they ride]",
+                                    origin, rider));
+    }
   }
   return t;
 }
@@ -168,6 +178,8 @@ AliasTable AliasTable::extendedWith(const AliasTable& user) const {
   out.general_words.insert(user.general_words.begin(), user.general_words.end());
   for (const auto& [key, entry] : user.aliases) out.aliases[key] = entry;
   for (const auto& [key, entry] : user.anchors) out.anchors[key] = entry;
+  for (const auto& [key, entry] : user.riders) out.riders[key] = entry;
+  out.riding_words.insert(user.riding_words.begin(), user.riding_words.end());
   return out;
 }
 

@@ -32,6 +32,13 @@ struct QueryGrounder::Tables {
   std::size_t max_phrase_words = kMaxPhraseWords;   // longest run of words tried: at least the longest name
   std::unordered_map<SynsetId, std::vector<ClassId>> anchors;        // anchor synset -> classes
   std::unordered_map<SynsetId, std::vector<ClassId>> above_anchors;  // is-a ancestor of anchors -> their classes
+  struct Rider {
+    ClassId rider = 0;
+    std::string origin;
+  };
+  std::unordered_map<ClassId, Rider> riders;  // ridden class -> its rider's class: bicycle -> bicyclist
+  std::unordered_set<ClassId> humans;         // classes of humans, riding or not: person, bicyclist, ...
+  std::set<std::string> riding_words;         // "riding", "on": join a human to what they ride
 };
 
 namespace {
@@ -211,7 +218,12 @@ WordNetAnswer groundInWordNet(const Tables& t, const std::string& lemma) {
   std::vector<Sense> untagged;  // later senses of a word SemCor never tagged
   std::unordered_set<SynsetId> seen;
   std::vector<std::string> forms{lemma};
-  for (std::string& base : t.wordnet->nounBaseForms(lemma)) forms.push_back(std::move(base));
+  // WordNet writes some compounds with hyphens ("double-decker", "lay-by"), which the normal form
+  // splits into words.
+  if (lemma.find('_') != std::string::npos) forms.push_back(replaced(lemma, '_', '-'));
+  for (std::size_t k = 0, written = forms.size(); k < written; ++k) {
+    for (std::string& base : t.wordnet->nounBaseForms(forms[k])) forms.push_back(std::move(base));
+  }
   for (const std::string& form : forms) {
     const wordnet::NounSenses senses = t.wordnet->nounSenses(form);
     // With tag counts, senses tagged less than a share of the first's count are rare and left out
@@ -220,7 +232,7 @@ WordNetAnswer groundInWordNet(const Tables& t, const std::string& lemma) {
     const bool tagged = std::any_of(senses.tag_counts.begin(), senses.tag_counts.end(), [](int c) { return c > 0; });
     for (std::size_t k = 0; k < senses.synsets.size(); ++k) {
       if (!seen.insert(senses.synsets[k]).second) continue;
-      const Sense sense{senses.synsets[k], replaced(form, '_', ' ')};
+      const Sense sense{senses.synsets[k], replaced(replaced(form, '_', ' '), '-', ' ')};
       const int count = senses.tag_counts[k];
       if (k == 0 || (count > 0 && count >= t.params.frequent_sense_share * senses.tag_counts.front())) {
         frequent.push_back(sense);
@@ -286,45 +298,263 @@ class Collector {
   std::set<std::string> terms_;
 };
 
-void recordTableHit(Collector& out, const std::string& term, TableHit hit) {
-  switch (hit.kind) {
-    case TableHit::Kind::kGeneral:
-      out.ambiguous(term, {}, "too general to name a class (a general word of the alias table); name a class");
-      return;
-    case TableHit::Kind::kClassName:
-      out.match(term, Match{{}, hit.lemma, std::move(hit.classes), MatchSource::kClassName, {}, {}});
-      return;
-    case TableHit::Kind::kAlias:
-      out.match(term, Match{{}, hit.lemma, std::move(hit.classes), MatchSource::kAlias, hit.origin, {}});
-      return;
+// ---- Reading the query: terms, then compounds, then rides ----
+
+// A word of the query in normal form, and the part of the query it is in: list punctuation
+// ("cars, bikes; buses") separates parts, and no phrase, compound or ride spans two.
+struct Word {
+  std::string text;
+  std::size_t part = 0;
+};
+
+std::vector<Word> splitWords(std::string_view query) {
+  constexpr std::string_view kPartSeparators = ",;:/|()[]{}&+.!?";
+  std::vector<Word> words;
+  std::size_t part = 0;
+  std::size_t start = 0;
+  for (std::size_t k = 0; k <= query.size(); ++k) {
+    if (k < query.size() && kPartSeparators.find(query[k]) == std::string_view::npos) continue;
+    const std::string normal = normalizePhrase(query.substr(start, k - start));
+    for (std::size_t from = 0; from < normal.size();) {
+      const std::size_t to = std::min(normal.find(' ', from), normal.size());
+      words.push_back(Word{normal.substr(from, to - from), part});
+      from = to + 1;
+    }
+    ++part;
+    start = k + 1;
   }
+  return words;
 }
 
-// Records a WordNet answer; false when WordNet has no noun for `lemma`, or when a collocation
-// names no class (its words are then tried one by one: "street people" is people).
-bool recordWordNet(Collector& out, const std::string& term, WordNetAnswer a, bool collocation) {
-  switch (a.kind) {
-    case WordNetAnswer::Kind::kNoNoun: return false;
-    case WordNetAnswer::Kind::kMatch:
-      out.match(term, Match{{}, a.lemma, std::move(a.classes), MatchSource::kWordNet, {}, std::move(a.path)});
-      return true;
-    case WordNetAnswer::Kind::kAmbiguous: out.ambiguous(term, std::move(a.classes), std::move(a.reason)); return true;
-    case WordNetAnswer::Kind::kUnmatched:
-      if (collocation) return false;
-      out.unmatched(term);
-      return true;
-  }
-  return false;
+std::string joinWords(const std::vector<Word>& words, std::size_t first, std::size_t count, char sep) {
+  std::string out = words[first].text;
+  for (std::size_t k = first + 1; k < first + count; ++k) out += sep + words[k].text;
+  return out;
 }
 
 bool isNumber(const std::string& word) {
   return std::all_of(word.begin(), word.end(), [](char c) { return c >= '0' && c <= '9'; });
 }
 
-std::string joinWords(const std::vector<std::string>& words, std::size_t first, std::size_t count, char sep) {
-  std::string out = words[first];
-  for (std::size_t k = first + 1; k < first + count; ++k) out += sep + words[k];
+// A run of the query's words and what it names.
+struct Term {
+  enum class Kind { kMatch, kAmbiguous, kUnmatched, kIgnored } kind = Kind::kUnmatched;
+  std::size_t first = 0;  // its words: [first, end())
+  std::size_t count = 1;
+  Match match;                      // kMatch
+  std::vector<ClassId> candidates;  // kAmbiguous
+  std::string reason;               // kAmbiguous
+  bool noun = false;                // the table or WordNet knows it as a noun
+  // Written in its base (singular) form, so that as a noun it may modify the noun after it ("lorry
+  // drivers"); plurals are items of a list typed without commas ("cars bikes buses").
+  bool base_form = true;
+  bool class_name = false;  // a class name of the vocabulary
+
+  [[nodiscard]] std::size_t end() const { return first + count; }
+};
+
+Term fromTableHit(TableHit hit, const std::string& phrase) {
+  Term term;
+  term.noun = true;
+  term.base_form = hit.lemma == phrase;
+  switch (hit.kind) {
+    case TableHit::Kind::kGeneral:
+      term.kind = Term::Kind::kAmbiguous;
+      term.reason = "too general to name a class (a general word of the alias table); name a class";
+      break;
+    case TableHit::Kind::kClassName:
+      term.kind = Term::Kind::kMatch;
+      term.class_name = true;
+      term.match = Match{{}, std::move(hit.lemma), std::move(hit.classes), MatchSource::kClassName, {}, {}};
+      break;
+    case TableHit::Kind::kAlias:
+      term.kind = Term::Kind::kMatch;
+      term.match =
+          Match{{}, std::move(hit.lemma), std::move(hit.classes), MatchSource::kAlias, std::move(hit.origin), {}};
+      break;
+  }
+  return term;
+}
+
+// Nothing when WordNet has no noun for the phrase, or when a collocation names no class (its words
+// are then read one by one, and the last names it: a "post box" is a box, no post).
+std::optional<Term> fromWordNet(WordNetAnswer a, const std::string& phrase, bool collocation) {
+  Term term;
+  term.noun = true;
+  term.base_form = a.lemma == phrase;
+  switch (a.kind) {
+    case WordNetAnswer::Kind::kNoNoun: return std::nullopt;
+    case WordNetAnswer::Kind::kMatch:
+      term.kind = Term::Kind::kMatch;
+      term.match = Match{{}, std::move(a.lemma), std::move(a.classes), MatchSource::kWordNet, {}, std::move(a.path)};
+      return term;
+    case WordNetAnswer::Kind::kAmbiguous:
+      term.kind = Term::Kind::kAmbiguous;
+      term.candidates = std::move(a.classes);
+      term.reason = std::move(a.reason);
+      return term;
+    case WordNetAnswer::Kind::kUnmatched:
+      if (collocation) return std::nullopt;
+      term.kind = Term::Kind::kUnmatched;
+      return term;
+  }
+  return std::nullopt;
+}
+
+// Step 2 of the header: the longest runs of words that name something, and single words.
+std::vector<Term> readTerms(const Tables& t, const std::vector<Word>& words) {
+  std::vector<Term> terms;
+  for (std::size_t i = 0; i < words.size();) {
+    std::size_t in_part = 1;
+    while (i + in_part < words.size() && words[i + in_part].part == words[i].part) ++in_part;
+    std::optional<Term> found;
+    for (std::size_t n = std::min(t.max_phrase_words, in_part); n >= 1 && !found; --n) {
+      const std::string phrase = joinWords(words, i, n, ' ');
+      if (n == 1 || t.multiword_heads.contains(words[i].text)) {
+        if (auto hit = lookupTables(t, phrase)) found = fromTableHit(std::move(*hit), phrase);
+      }
+      if (!found && n >= 2 && t.wordnet != nullptr && !t.stop_words.contains(words[i].text) &&
+          !t.stop_words.contains(words[i + n - 1].text)) {
+        found = fromWordNet(groundInWordNet(t, joinWords(words, i, n, '_')), phrase, true);
+      }
+      if (found) {
+        found->first = i;
+        found->count = n;
+      }
+    }
+    if (found) {
+      i += found->count;
+      terms.push_back(std::move(*found));
+      continue;
+    }
+    const std::string& word = words[i].text;
+    const std::size_t first = i++;
+    if (t.stop_words.contains(word) || t.riding_words.contains(word) || word.size() == 1 || isNumber(word)) continue;
+    Term term;
+    if (t.wordnet != nullptr) {
+      if (auto grounded = fromWordNet(groundInWordNet(t, word), word, false)) {
+        term = std::move(*grounded);
+        // A noun naming no class ("ice" in "ice cream truck"): in its base form when no other form.
+        if (term.kind == Term::Kind::kUnmatched) term.base_form = formsOf(t, word).size() == 1;
+      } else if (t.wordnet->isOtherPartOfSpeech(word)) {
+        term.kind = Term::Kind::kIgnored;
+      }
+    }
+    term.first = first;
+    terms.push_back(std::move(term));
+  }
+  return terms;
+}
+
+bool isHuman(const Tables& t, const Term& term) {
+  return term.kind == Term::Kind::kMatch && !term.match.classes.empty() &&
+         std::all_of(term.match.classes.begin(), term.match.classes.end(),
+                     [&](ClassId c) { return t.humans.contains(c); });
+}
+
+// Whether every class of `term` is ridden (bicycle, motorcycle): "bikes", "two wheelers".
+bool isRidden(const Tables& t, const Term& term) {
+  return term.kind == Term::Kind::kMatch && !term.match.classes.empty() &&
+         std::all_of(term.match.classes.begin(), term.match.classes.end(),
+                     [&](ClassId c) { return t.riders.contains(c); });
+}
+
+// A human `human_lemma` riding `ridden` (isRidden terms): their riders' classes.
+Match riderMatch(const Tables& t, const std::string& human_lemma, const std::vector<const Term*>& ridden) {
+  Match m;
+  m.source = MatchSource::kAlias;
+  std::string vehicles;
+  for (const Term* vehicle : ridden) {
+    vehicles += (vehicles.empty() ? "" : " and ") + vehicle->match.lemma;
+    for (const ClassId c : vehicle->match.classes) {
+      const Tables::Rider& rider = t.riders.at(c);
+      m.classes.push_back(rider.rider);
+      m.origin = rider.origin;
+    }
+  }
+  sortUnique(m.classes);
+  m.lemma = fmt::format("{} on {}", human_lemma, vehicles);
+  return m;
+}
+
+// Whether `modifier` is a noun modifying the next term, `next`: "lorry" in "lorry drivers". Two
+// class names are a list ("car person"), and so is a plural before a noun ("cars bikes"); words
+// not known as nouns ("wheelie", or any word without WordNet) neither modify nor are modified.
+bool modifies(const std::vector<Word>& words, const Term& modifier, const Term& next) {
+  return next.first == modifier.end() && words[modifier.first].part == words[next.first].part && modifier.noun &&
+         modifier.base_form && next.noun && !(modifier.class_name && next.class_name);
+}
+
+// Step 4 of the header: a run of nouns is named by its last, the head ("delivery vans", "bus
+// drivers", "post boxes"); a human head after a ridden modifier is its rider ("bike messengers").
+std::vector<Term> joinCompounds(const Tables& t, const std::vector<Word>& words, std::vector<Term> terms) {
+  std::vector<Term> out;
+  for (std::size_t k = 0; k < terms.size();) {
+    std::size_t head = k;
+    while (head + 1 < terms.size() && modifies(words, terms[head], terms[head + 1])) ++head;
+    Term compound = std::move(terms[head]);
+    if (head > k) {
+      const Term& modifier = terms[head - 1];
+      if (isRidden(t, modifier) && isHuman(t, compound))
+        compound.match = riderMatch(t, compound.match.lemma, {&modifier});
+      compound.count = compound.end() - terms[k].first;
+      compound.first = terms[k].first;
+      compound.class_name = false;
+    }
+    out.push_back(std::move(compound));
+    k = head + 1;
+  }
   return out;
+}
+
+// Whether only stop words (and riding words) stand between terms `a` and `b`, in one part, and
+// one of them is a riding word when `riding` ("people riding bikes", "men on motorbikes").
+bool joinedBy(const Tables& t, const std::vector<Word>& words, const Term& a, const Term& b, bool riding) {
+  if (words[a.first].part != words[b.first].part) return false;
+  bool rides = false;
+  for (std::size_t w = a.end(); w < b.first; ++w) {
+    const bool riding_word = t.riding_words.contains(words[w].text);
+    if (!riding_word && !t.stop_words.contains(words[w].text)) return false;
+    rides = rides || riding_word;
+  }
+  return rides || !riding;
+}
+
+// Step 5 of the header: a human riding what is ridden is its rider ("people on bikes and
+// motorbikes": bicyclist, motorcyclist); "people on the pavement" stay people.
+std::vector<Term> joinRides(const Tables& t, const std::vector<Word>& words, std::vector<Term> terms) {
+  std::vector<Term> out;
+  for (std::size_t k = 0; k < terms.size(); ++k) {
+    std::size_t last = k;
+    if (isHuman(t, terms[k])) {
+      while (last + 1 < terms.size() && isRidden(t, terms[last + 1]) &&
+             joinedBy(t, words, terms[last], terms[last + 1], last == k)) {
+        ++last;
+      }
+    }
+    if (last == k) {
+      out.push_back(std::move(terms[k]));
+      continue;
+    }
+    std::vector<const Term*> ridden;
+    for (std::size_t j = k + 1; j <= last; ++j) ridden.push_back(&terms[j]);
+    Term ride = terms[k];
+    ride.match = riderMatch(t, terms[k].match.lemma, ridden);
+    ride.count = terms[last].end() - terms[k].first;
+    out.push_back(std::move(ride));
+    k = last;
+  }
+  return out;
+}
+
+void record(Collector& out, const std::vector<Word>& words, Term term) {
+  const std::string text = joinWords(words, term.first, term.count, ' ');
+  switch (term.kind) {
+    case Term::Kind::kMatch: out.match(text, std::move(term.match)); return;
+    case Term::Kind::kAmbiguous: out.ambiguous(text, std::move(term.candidates), std::move(term.reason)); return;
+    case Term::Kind::kUnmatched: out.unmatched(text); return;
+    case Term::Kind::kIgnored: out.ignored(text); return;
+  }
 }
 
 }  // namespace
@@ -366,6 +596,22 @@ Result<QueryGrounder> QueryGrounder::create(Vocabulary vocabulary, const AliasTa
   }
   t->stop_words = aliases.stop_words;
   t->general_words = aliases.general_words;
+  t->riding_words = aliases.riding_words;
+  for (const auto& [rider_name, entry] : aliases.riders) {
+    if (entry.values.size() != 2) {
+      return parseError(fmt::format("{}: riders '{}': expected [the class of the human, the class of what they ride]",
+                                    entry.origin, rider_name));
+    }
+    auto rider = classesOf({rider_name}, entry, "\"riders\"", t->vocabulary);
+    auto human = classesOf({entry.values[0]}, entry, fmt::format("riders '{}'", rider_name), t->vocabulary);
+    auto ridden = classesOf({entry.values[1]}, entry, fmt::format("riders '{}'", rider_name), t->vocabulary);
+    for (const auto* ids : {&rider, &human, &ridden}) {
+      if (!*ids) return ids->status();
+    }
+    if (rider->empty() || human->empty() || ridden->empty()) continue;  // built-in, for another vocabulary
+    t->riders[ridden->front()] = Tables::Rider{rider->front(), entry.origin};
+    t->humans.insert({rider->front(), human->front()});
+  }
   const auto add_head = [&](const std::string& phrase) {
     if (const auto space = phrase.find(' '); space != std::string::npos) {
       t->multiword_heads.insert(phrase.substr(0, space));
@@ -440,45 +686,10 @@ Result<Grounding> QueryGrounder::ground(std::string_view query) const {
     return invalidArgument(blank ? std::string("the query is empty")
                                  : fmt::format("the query '{}' has no words", query));
   }
-  std::vector<std::string> words;
-  for (std::size_t start = 0; start <= g.query.size();) {
-    const std::size_t end = std::min(g.query.find(' ', start), g.query.size());
-    words.push_back(g.query.substr(start, end - start));
-    start = end + 1;
-  }
-
+  const std::vector<Word> words = splitWords(query);
   Collector out(g);
-  for (std::size_t i = 0; i < words.size();) {
-    bool consumed = false;
-    for (std::size_t n = std::min(t.max_phrase_words, words.size() - i); n >= 1 && !consumed; --n) {
-      const std::string term = joinWords(words, i, n, ' ');
-      if (n == 1 || t.multiword_heads.contains(words[i])) {
-        if (auto hit = lookupTables(t, term)) {
-          recordTableHit(out, term, std::move(*hit));
-          i += n;
-          consumed = true;
-          break;
-        }
-      }
-      if (n >= 2 && t.wordnet != nullptr && !t.stop_words.contains(words[i]) &&
-          !t.stop_words.contains(words[i + n - 1]) &&
-          recordWordNet(out, term, groundInWordNet(t, joinWords(words, i, n, '_')), true)) {
-        i += n;
-        consumed = true;
-      }
-    }
-    if (consumed) continue;
-    const std::string& word = words[i++];
-    if (t.stop_words.contains(word) || word.size() == 1 || isNumber(word)) continue;
-    if (t.wordnet == nullptr) {
-      out.unmatched(word);
-    } else if (!recordWordNet(out, word, groundInWordNet(t, word), false)) {
-      if (t.wordnet->isOtherPartOfSpeech(word)) {
-        out.ignored(word);
-      } else {
-        out.unmatched(word);
-      }
-    }
+  for (Term& term : joinRides(t, words, joinCompounds(t, words, readTerms(t, words)))) {
+    record(out, words, std::move(term));
   }
   sortUnique(g.classes);
   return g;

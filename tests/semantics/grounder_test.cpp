@@ -3,6 +3,7 @@
 // missing database) and bad alias files. The time per query is printed by build/bench/semantics_bench.
 #include "artemis/semantics/query_grounder.hpp"
 
+#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -30,71 +31,175 @@ struct Case {
   std::optional<MatchSource> source = std::nullopt;
 };
 
-const std::vector<Case>& phrases() {
+struct PhraseGroup {
+  const char* name;
+  bool every_row;  // every row must hold: the phrases the grounder was written with
+  std::vector<Case> cases;
+};
+
+// Each phrase with the classes a person means by it, written before the grounder saw it.
+const std::vector<PhraseGroup>& phraseGroups() {
   using enum MatchSource;
-  static const std::vector<Case> cases{
-      // The issue's examples.
-      {"highlight the parked cars and the people", {"car", "person", "bicyclist", "motorcyclist"}},
-      {"show me vegetation", {"vegetation"}, Expect::kMatch, kClassName},
-      {"sedans", {"car"}, Expect::kMatch, kWordNet},
-      {"pedestrians", {"person"}, Expect::kMatch, kAlias},
-      {"lorries", {"truck"}, Expect::kMatch, kAlias},
-      {"street lamps", {"pole"}, Expect::kMatch, kAlias},
-      {"the pavement", {"sidewalk"}, Expect::kMatch, kAlias},
-      {"vehicles", {"car", "bicycle", "motorcycle", "truck", "other-vehicle"}, Expect::kMatch, kAlias},
-      // Class names, in any case, hyphenation and number.
-      {"Traffic Signs", {"traffic-sign"}, Expect::kMatch, kClassName},
-      {"other-vehicles", {"other-vehicle"}, Expect::kMatch, kClassName},
-      {"the road and the sidewalks", {"road", "sidewalk"}, Expect::kMatch, kClassName},
-      {"fences, poles and trunks", {"fence", "trunk", "pole"}, Expect::kMatch, kClassName},
-      {"buildings please", {"building"}, Expect::kMatch, kClassName},
-      {"PARKING", {"parking"}, Expect::kMatch, kClassName},
-      // Aliases, groups and multi-word expressions.
-      {"parking lots", {"parking"}, Expect::kMatch, kAlias},
-      {"trees and bushes", {"vegetation"}, Expect::kMatch, kAlias},
-      {"bikes", {"bicycle"}, Expect::kMatch, kAlias},
-      {"buses and trams", {"other-vehicle"}, Expect::kMatch, kAlias},
-      {"riders", {"bicyclist", "motorcyclist"}, Expect::kMatch, kAlias},
-      {"the ground", {"road", "parking", "sidewalk", "other-ground", "terrain"}, Expect::kMatch, kAlias},
-      {"grass", {"terrain"}, Expect::kMatch, kAlias},
-      {"road signs", {"traffic-sign"}, Expect::kMatch, kAlias},
-      {"a hedge", {"vegetation"}, Expect::kMatch, kAlias},  // WordNet alone would say fence
-      {"humans", {"person", "bicyclist", "motorcyclist"}, Expect::kMatch, kAlias},
-      // Words only WordNet knows.
-      {"minivan", {"car"}, Expect::kMatch, kWordNet},
-      {"jeeps", {"car"}, Expect::kMatch, kWordNet},
-      {"ambulances", {"car"}, Expect::kMatch, kWordNet},
-      {"oaks", {"vegetation"}, Expect::kMatch, kWordNet},
-      {"pine", {"vegetation"}, Expect::kMatch, kWordNet},
-      {"birch", {"vegetation"}, Expect::kMatch, kWordNet},
-      {"lampposts", {"pole"}, Expect::kMatch, kWordNet},
-      {"telephone poles", {"pole"}, Expect::kMatch, kWordNet},
-      {"skyscraper", {"building"}, Expect::kMatch, kWordNet},
-      {"cyclists", {"bicyclist"}, Expect::kMatch, kWordNet},
-      {"pickup", {"truck"}, Expect::kMatch, kWordNet},
-      {"minibus", {"other-vehicle"}, Expect::kMatch, kWordNet},
-      {"streetcar", {"other-vehicle"}, Expect::kMatch, kWordNet},
-      {"highway", {"road"}, Expect::kMatch, kWordNet},
-      {"women and children", {"person"}, Expect::kMatch, kWordNet},
-      {"policemen", {"person"}, Expect::kMatch, kWordNet},
-      {"mopeds", {"motorcycle"}, Expect::kMatch, kWordNet},
-      {"meadow", {"terrain"}, Expect::kMatch, kWordNet},
-      // Mixed.
-      {"sedans, pedestrians and street lamps", {"car", "person", "pole"}},
-      {"cars and unicorns", {"car"}},
-      {"shiny cars", {"car"}, Expect::kMatch, kClassName},  // "shiny": an adjective, ignored
-      // Nothing matches.
-      {"unicorn", {}, Expect::kUnmatched},
-      {"the sky", {}, Expect::kUnmatched},
-      {"dogs", {}, Expect::kUnmatched},
-      {"box", {}, Expect::kUnmatched},  // not the shrub: SemCor never tags that sense
-      // Too general.
-      {"things", {}, Expect::kAmbiguous},
-      {"show me everything", {}, Expect::kAmbiguous},
-      {"objects", {}, Expect::kAmbiguous},
-      {"organisms", {}, Expect::kAmbiguous},  // WordNet: above person and vegetation
-      {"artifacts", {}, Expect::kAmbiguous},
+  static const std::vector<PhraseGroup> groups{
+      {"written with the grounder",
+       true,
+       {
+           // The issue's examples.
+           {"highlight the parked cars and the people", {"car", "person", "bicyclist", "motorcyclist"}},
+           {"show me vegetation", {"vegetation"}, Expect::kMatch, kClassName},
+           {"sedans", {"car"}, Expect::kMatch, kWordNet},
+           {"pedestrians", {"person"}, Expect::kMatch, kAlias},
+           {"lorries", {"truck"}, Expect::kMatch, kAlias},
+           {"street lamps", {"pole"}, Expect::kMatch, kAlias},
+           {"the pavement", {"sidewalk"}, Expect::kMatch, kAlias},
+           {"vehicles", {"car", "bicycle", "motorcycle", "truck", "other-vehicle"}, Expect::kMatch, kAlias},
+           // Class names, in any case, hyphenation and number.
+           {"Traffic Signs", {"traffic-sign"}, Expect::kMatch, kClassName},
+           {"other-vehicles", {"other-vehicle"}, Expect::kMatch, kClassName},
+           {"the road and the sidewalks", {"road", "sidewalk"}, Expect::kMatch, kClassName},
+           {"fences, poles and trunks", {"fence", "trunk", "pole"}, Expect::kMatch, kClassName},
+           {"buildings please", {"building"}, Expect::kMatch, kClassName},
+           {"PARKING", {"parking"}, Expect::kMatch, kClassName},
+           // Aliases, groups and multi-word expressions.
+           {"parking lots", {"parking"}, Expect::kMatch, kAlias},
+           {"trees and bushes", {"vegetation"}, Expect::kMatch, kAlias},
+           {"bikes", {"bicycle"}, Expect::kMatch, kAlias},
+           {"buses and trams", {"other-vehicle"}, Expect::kMatch, kAlias},
+           {"riders", {"bicyclist", "motorcyclist"}, Expect::kMatch, kAlias},
+           {"the ground", {"road", "parking", "sidewalk", "other-ground", "terrain"}, Expect::kMatch, kAlias},
+           {"grass", {"terrain"}, Expect::kMatch, kAlias},
+           {"road signs", {"traffic-sign"}, Expect::kMatch, kAlias},
+           {"a hedge", {"vegetation"}, Expect::kMatch, kAlias},  // WordNet alone would say fence
+           {"humans", {"person", "bicyclist", "motorcyclist"}, Expect::kMatch, kAlias},
+           // Words only WordNet knows.
+           {"minivan", {"car"}, Expect::kMatch, kWordNet},
+           {"jeeps", {"car"}, Expect::kMatch, kWordNet},
+           {"ambulances", {"car"}, Expect::kMatch, kWordNet},
+           {"oaks", {"vegetation"}, Expect::kMatch, kWordNet},
+           {"pine", {"vegetation"}, Expect::kMatch, kWordNet},
+           {"birch", {"vegetation"}, Expect::kMatch, kWordNet},
+           {"lampposts", {"pole"}, Expect::kMatch, kWordNet},
+           {"telephone poles", {"pole"}, Expect::kMatch, kWordNet},
+           {"skyscraper", {"building"}, Expect::kMatch, kWordNet},
+           {"cyclists", {"bicyclist"}, Expect::kMatch, kWordNet},
+           {"pickup", {"truck"}, Expect::kMatch, kWordNet},
+           {"minibus", {"other-vehicle"}, Expect::kMatch, kWordNet},
+           {"streetcar", {"other-vehicle"}, Expect::kMatch, kWordNet},
+           {"highway", {"road"}, Expect::kMatch, kWordNet},
+           {"women and children", {"person"}, Expect::kMatch, kWordNet},
+           {"policemen", {"person"}, Expect::kMatch, kWordNet},
+           {"mopeds", {"motorcycle"}, Expect::kMatch, kWordNet},
+           {"meadow", {"terrain"}, Expect::kMatch, kWordNet},
+           // Mixed.
+           {"sedans, pedestrians and street lamps", {"car", "person", "pole"}},
+           {"cars and unicorns", {"car"}},
+           {"shiny cars", {"car"}, Expect::kMatch, kClassName},  // "shiny": an adjective, ignored
+                                                                 // Nothing matches.
+           {"unicorn", {}, Expect::kUnmatched},
+           {"the sky", {}, Expect::kUnmatched},
+           {"dogs", {}, Expect::kUnmatched},
+           {"box", {}, Expect::kUnmatched},  // not the shrub: SemCor never tags that sense
+                                             // Too general.
+           {"things", {}, Expect::kAmbiguous},
+           {"show me everything", {}, Expect::kAmbiguous},
+           {"objects", {}, Expect::kAmbiguous},
+           {"organisms", {}, Expect::kAmbiguous},  // WordNet: above person and vegetation
+           {"artifacts", {}, Expect::kAmbiguous},
+       }},
+      // Issue 20: phrases written by people who had not seen the grounder, in the three kinds it
+      // missed. Multi-word nouns: the head noun names the thing, its modifiers do not.
+      {"multi-word nouns",
+       false,
+       {
+           {"delivery vans", {"car"}},  // vans are cars in SemanticKITTI
+           {"ice cream truck", {"truck"}},
+           {"lorry drivers", {"person"}},
+           {"bus drivers", {"person"}},
+           {"taxi drivers", {"person"}},
+           {"cop cars", {"car"}},
+           {"bin lorries", {"truck"}},
+           {"garbage trucks", {"truck"}},
+           {"fire engines", {"truck"}},
+           {"double-decker buses", {"other-vehicle"}},
+           {"school buses", {"other-vehicle"}},
+           {"camper vans", {"other-vehicle"}},  // campers are other-vehicle, vans are not
+           {"estate cars", {"car"}},
+           {"mountain bikes", {"bicycle"}},
+           {"speed limit signs", {"traffic-sign"}},
+           {"give way signs", {"traffic-sign"}},
+           {"street name signs", {"traffic-sign"}},
+           {"parking signs", {"traffic-sign"}},
+           {"oak tree trunks", {"trunk"}},
+           {"tower blocks", {"building"}},
+           {"post boxes", {}, Expect::kUnmatched},  // not posts
+           {"wheelie bins", {}, Expect::kUnmatched},
+           // Lists typed without commas stay lists.
+           {"cars bikes buses", {"car", "bicycle", "other-vehicle"}},
+           {"car person", {"car", "person"}},
+       }},
+      // British and colloquial words for street things.
+      {"British and colloquial words",
+       false,
+       {
+           {"kerbs", {"sidewalk"}},
+           {"the curb", {"sidewalk"}},
+           {"motorbikes", {"motorcycle"}},
+           {"push bikes", {"bicycle"}},
+           {"hatchbacks", {"car"}},
+           {"people carriers", {"car"}},
+           {"coaches", {"other-vehicle"}},
+           {"HGVs", {"truck"}},
+           {"motorway", {"road"}},
+           {"dual carriageway", {"road"}},
+           {"the tarmac", {"road"}},
+           {"roundabouts", {"road"}},
+           {"zebra crossing", {"road"}},  // crossings and road markings are road in SemanticKITTI
+           {"pedestrian crossings", {"road"}},
+           {"road markings", {"road"}},
+           {"grass verges", {"terrain"}},
+           {"lay-bys", {"parking"}},
+           {"lamp posts", {"pole"}},
+           {"telegraph poles", {"pole"}},
+           {"hedgerows", {"vegetation"}},
+           {"blokes", {"person"}},
+           {"passers-by", {"person"}},
+       }},
+      // Relative phrases: a person riding a two-wheeler is its rider class, not a person and a
+      // vehicle. Being on the ground is no ride.
+      {"relative phrases",
+       false,
+       {
+           {"people riding bikes", {"bicyclist"}},
+           {"people riding motorbikes", {"motorcyclist"}},
+           {"person on a bike", {"bicyclist"}},
+           {"woman riding a bicycle", {"bicyclist"}},
+           {"kids on bicycles", {"bicyclist"}},
+           {"children riding their bikes", {"bicyclist"}},
+           {"men on motorbikes", {"motorcyclist"}},
+           {"guy on a motorcycle", {"motorcyclist"}},
+           {"lads on scooters", {"motorcyclist"}},
+           {"people on bikes and motorbikes", {"bicyclist", "motorcyclist"}},
+           {"cars and people riding bikes", {"car", "bicyclist"}},
+           {"bike riders", {"bicyclist"}},
+           {"motorbike riders", {"motorcyclist"}},
+           {"scooter riders", {"motorcyclist"}},
+           {"moped riders", {"motorcyclist"}},
+           {"bike messengers", {"bicyclist"}},
+           {"motorbike couriers", {"motorcyclist"}},
+           {"cyclists on the road", {"bicyclist", "road"}},
+           {"people on the pavement", {"person", "bicyclist", "motorcyclist", "sidewalk"}},
+           {"bicycles on the pavement", {"bicycle", "sidewalk"}},
+       }},
   };
+  return groups;
+}
+
+const std::vector<Case>& phrases() {
+  static const std::vector<Case> cases = [] {
+    std::vector<Case> all;
+    for (const PhraseGroup& group : phraseGroups()) all.insert(all.end(), group.cases.begin(), group.cases.end());
+    return all;
+  }();
   return cases;
 }
 
@@ -124,35 +229,71 @@ const QueryGrounder& grounder() {
   return g;
 }
 
-void checkCase(const QueryGrounder& g, const Case& c) {
-  SCOPED_TRACE(c.query);
-  auto r = g.ground(c.query);
-  ASSERT_TRUE(r) << r.status().message();
-  EXPECT_EQ(names(r->classes, g.vocabulary()), sortedById(c.classes, g.vocabulary()));
-  switch (c.expect) {
-    case Expect::kMatch:
-      EXPECT_FALSE(r->matches.empty());
-      EXPECT_TRUE(r->ambiguous.empty());
-      break;
-    case Expect::kUnmatched:
-      EXPECT_TRUE(r->matches.empty());
-      EXPECT_FALSE(r->unmatched.empty());
-      EXPECT_NE(describe(*r, g.vocabulary()).find("no class matches '"), std::string::npos);
-      break;
-    case Expect::kAmbiguous:
-      EXPECT_TRUE(r->matches.empty());
-      EXPECT_EQ(r->ambiguous.size(), 1U);
-      break;
-  }
-  if (c.source) {
-    for (const Match& m : r->matches) EXPECT_EQ(m.source, *c.source) << m.term;
-  }
+std::string joined(const std::vector<std::string>& words) {
+  std::string out;
+  for (const std::string& w : words) out += (out.empty() ? "" : ", ") + w;
+  return "{" + out + "}";
 }
 
+// Empty when `c` holds exactly (its classes, the kind of answer and the source of every match);
+// else what differs.
+std::string mismatch(const QueryGrounder& g, const Case& c) {
+  auto r = g.ground(c.query);
+  if (!r) return r.status().message();
+  const std::vector<std::string> got = names(r->classes, g.vocabulary());
+  const std::vector<std::string> expected = sortedById(c.classes, g.vocabulary());
+  const auto answer = [&] { return describe(*r, g.vocabulary()); };
+  if (got != expected) return fmt::format("{} expected, got {}:\n{}", joined(expected), joined(got), answer());
+  switch (c.expect) {
+    case Expect::kMatch:
+      if (r->matches.empty() || !r->ambiguous.empty()) return "expected a match and no ambiguity:\n" + answer();
+      break;
+    case Expect::kUnmatched:
+      if (!r->matches.empty() || r->unmatched.empty() || answer().find("no class matches '") == std::string::npos) {
+        return "expected no class to match:\n" + answer();
+      }
+      break;
+    case Expect::kAmbiguous:
+      if (!r->matches.empty() || r->ambiguous.size() != 1) return "expected one ambiguous term:\n" + answer();
+      break;
+  }
+  for (const Match& m : r->matches) {
+    if (c.source && m.source != *c.source) {
+      return fmt::format("'{}' matched as {}, expected {}:\n{}", m.term, toString(m.source), toString(*c.source),
+                         answer());
+    }
+  }
+  return {};
+}
+
+// Issue 20: at least 95 % of the table holds exactly, and every phrase the grounder was written
+// with. Each miss is listed; the share of each group is printed.
 TEST(QueryGrounder, PhraseTable) {
   ASSERT_TRUE(grounder().usesWordNet()) << "WordNet's database (wordnet-base) is needed for this test";
-  EXPECT_GE(phrases().size(), 40U);
-  for (const Case& c : phrases()) checkCase(grounder(), c);
+  ASSERT_GE(phrases().size(), 80U);
+  std::size_t exact = 0;
+  std::string misses;
+  for (const PhraseGroup& group : phraseGroups()) {
+    EXPECT_GE(group.cases.size(), 10U) << group.name;
+    std::size_t group_exact = 0;
+    for (const Case& c : group.cases) {
+      const std::string why = mismatch(grounder(), c);
+      if (why.empty()) {
+        ++group_exact;
+      } else {
+        misses += fmt::format("'{}' ({}): {}\n", c.query, group.name, why);
+      }
+    }
+    fmt::print("{}: {} of {} exact\n", group.name, group_exact, group.cases.size());
+    if (group.every_row) {
+      EXPECT_EQ(group_exact, group.cases.size()) << group.name << ":\n" << misses;
+    }
+    exact += group_exact;
+  }
+  const double share = static_cast<double>(exact) / static_cast<double>(phrases().size());
+  fmt::print("phrase table: {} of {} exact ({:.1f} %)\n", exact, phrases().size(), 100.0 * share);
+  EXPECT_GE(share, 0.95) << misses;
+  if (!misses.empty()) fmt::print("misses:\n{}", misses);
 }
 
 TEST(QueryGrounder, MatchesSayHowTheyMatched) {
@@ -186,6 +327,83 @@ TEST(QueryGrounder, MatchesSayHowTheyMatched) {
   auto shiny = g.ground("shiny cars");
   ASSERT_TRUE(shiny);
   EXPECT_EQ(shiny->ignored, std::vector<std::string>{"shiny"});
+}
+
+// Issue 20's rules one by one: a compound is named by its head noun, not by its modifiers.
+TEST(QueryGrounder, CompoundsAreNamedByTheirHeadNoun) {
+  const QueryGrounder& g = grounder();
+  auto drivers = g.ground("the lorry drivers");
+  ASSERT_TRUE(drivers);
+  ASSERT_EQ(drivers->matches.size(), 1U);
+  EXPECT_EQ(drivers->matches[0].term, "lorry drivers");
+  EXPECT_EQ(drivers->matches[0].lemma, "driver");
+  EXPECT_EQ(drivers->matches[0].source, MatchSource::kWordNet);
+  EXPECT_EQ(names(drivers->classes, g.vocabulary()), std::vector<std::string>{"person"});
+  // Alone, "post" is a pole (an alias); as the modifier of a head naming nothing, it names nothing.
+  auto boxes = g.ground("post boxes");
+  ASSERT_TRUE(boxes);
+  EXPECT_TRUE(boxes->classes.empty());
+  EXPECT_EQ(boxes->unmatched, std::vector<std::string>{"post boxes"});
+  // Plurals in a row, class names in a row and list punctuation make lists, not compounds.
+  for (const auto& [query, terms] : std::vector<std::pair<const char*, std::size_t>>{
+           {"cars bikes buses", 3}, {"car person", 2}, {"road, sign", 2}, {"road sign", 1}}) {
+    auto r = g.ground(query);
+    ASSERT_TRUE(r);
+    EXPECT_EQ(r->matches.size(), terms) << query;
+  }
+  // A word nobody knows as a noun is reported, not taken as a modifier.
+  auto wheelie = g.ground("wheelie bins");
+  ASSERT_TRUE(wheelie);
+  EXPECT_EQ(wheelie->unmatched, (std::vector<std::string>{"wheelie", "bins"}));
+}
+
+// A human riding a two-wheeler is its rider class, as the alias table's "riders" say.
+TEST(QueryGrounder, RidingHumansAreRiders) {
+  const QueryGrounder& g = grounder();
+  auto r = g.ground("highlight people riding bikes and the cars");
+  ASSERT_TRUE(r);
+  EXPECT_EQ(names(r->classes, g.vocabulary()), (std::vector<std::string>{"car", "bicyclist"}));
+  ASSERT_EQ(r->matches.size(), 2U);
+  EXPECT_EQ(r->matches[0].term, "people riding bikes");
+  EXPECT_EQ(r->matches[0].lemma, "people on bike");
+  EXPECT_EQ(r->matches[0].source, MatchSource::kAlias);
+  EXPECT_NE(r->matches[0].origin.find("aliases.json"), std::string::npos);
+  // A ridden modifier of a human head.
+  auto mopeds = g.ground("moped riders");
+  ASSERT_TRUE(mopeds);
+  ASSERT_EQ(mopeds->matches.size(), 1U);
+  EXPECT_EQ(mopeds->matches[0].lemma, "rider on moped");
+  EXPECT_EQ(names(mopeds->classes, g.vocabulary()), std::vector<std::string>{"motorcyclist"});
+  // No riding word between them, or list punctuation: the humans and the vehicles.
+  for (const char* query : {"people with bikes", "people, on bikes"}) {
+    auto apart = g.ground(query);
+    ASSERT_TRUE(apart);
+    EXPECT_EQ(names(apart->classes, g.vocabulary()),
+              (std::vector<std::string>{"bicycle", "person", "bicyclist", "motorcyclist"}))
+        << query;
+  }
+  // The alias table alone knows the riders too.
+  GrounderParams no_wordnet;
+  no_wordnet.use_wordnet = false;
+  auto alone = QueryGrounder::create(Vocabulary::semanticKitti(), AliasTable::builtin(), no_wordnet);
+  ASSERT_TRUE(alone);
+  auto pedestrians = alone->ground("pedestrians on scooters");
+  ASSERT_TRUE(pedestrians);
+  EXPECT_EQ(names(pedestrians->classes, alone->vocabulary()), std::vector<std::string>{"motorcyclist"});
+  // Rides come from the table: without "riders", a man on a bike is a person and a bicycle.
+  const auto ground_with = [](const char* table_json, const char* query) {
+    auto table = AliasTable::parse(table_json, "riders.json");
+    EXPECT_TRUE(table) << table.status().message();
+    auto grounder = QueryGrounder::create(Vocabulary::semanticKitti(), *table);
+    EXPECT_TRUE(grounder) << grounder.status().message();
+    auto grounding = grounder->ground(query);
+    return names(grounding->classes, grounder->vocabulary());
+  };
+  const char* kNoRiders = R"({"extends_builtin": false, "stop_words": ["on", "a"], "aliases": {"man": "person"}})";
+  const char* kRiders = R"({"extends_builtin": false, "stop_words": ["a"], "aliases": {"man": "person"},
+      "riders": {"bicyclist": ["person", "bicycle"]}, "riding_words": ["on"]})";
+  EXPECT_EQ(ground_with(kNoRiders, "a man on a bicycle"), (std::vector<std::string>{"bicycle", "person"}));
+  EXPECT_EQ(ground_with(kRiders, "a man on a bicycle"), std::vector<std::string>{"bicyclist"});
 }
 
 TEST(QueryGrounder, NoMatchAndAmbiguityAreExplained) {
@@ -348,6 +566,8 @@ TEST(AliasTable, BadFilesAreClearErrorsNamingTheFile) {
   EXPECT_NE(parseError(R"({"aliases": {"Car": "car", "car": "truck"}})").find("twice"), std::string::npos);
   EXPECT_NE(parseError(R"({"stop_words": {"the": 1}})").find("\"stop_words\""), std::string::npos);
   EXPECT_NE(parseError(R"({"extends_builtin": "yes"})").find("true or false"), std::string::npos);
+  EXPECT_NE(parseError(R"({"riders": {"bicyclist": ["person"]}})").find("riders 'bicyclist': expected [the class"),
+            std::string::npos);
   auto missing = AliasTable::load("/nonexistent/my_aliases.json");
   ASSERT_FALSE(missing);
   EXPECT_EQ(missing.status().code(), StatusCode::kNotFound);
@@ -366,6 +586,8 @@ TEST(AliasTable, BadFilesAreClearErrorsNamingTheFile) {
   EXPECT_NE(unknown_class.find("my_aliases.json: alias 'pony' names class 'unicorn'"), std::string::npos)
       << unknown_class;
   EXPECT_NE(createError(R"({"anchors": {"unicorn": ["horse.n.01"]}})").find("class 'unicorn'"), std::string::npos);
+  EXPECT_NE(createError(R"({"riders": {"unicyclist": ["person", "unicycle"]}})").find("class 'unicyclist'"),
+            std::string::npos);
   const std::string bad_anchor = createError(R"({"anchors": {"car": ["car.n.99"]}})");
   EXPECT_NE(bad_anchor.find("my_aliases.json: anchor of class 'car': 'car.n.99'"), std::string::npos) << bad_anchor;
   EXPECT_NE(createError(R"({"anchors": {"car": ["qwzx.n.01"]}})").find("no noun"), std::string::npos);

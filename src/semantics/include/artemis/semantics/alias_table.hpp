@@ -10,12 +10,16 @@
 //     "aliases": {"street lamp": "pole",                  phrase -> class name or names (a group)
 //                 "vehicle": ["car", "truck", ...]},
 //     "anchors": {"car": ["car.n.01"],                    class -> WordNet 3.0 noun synsets that are
-//                 "vegetation": ["plant.n.02", ...]}        the class: "lemma.n.NN" or "02958343-n"
+//                 "vegetation": ["plant.n.02", ...]},       the class: "lemma.n.NN" or "02958343-n"
+//     "riders": {"bicyclist": ["person", "bicycle"]},     rider class -> [class of the human, class
+//                                                           of what they ride]
+//     "riding_words": ["riding", "on", ...]               join a human to what they ride
 //   }
 // Phrases and words are kept in normal form (normalizePhrase): lower case, one space between words.
 // Write them in the singular; plurals find them through morphology. A user file's alias replaces
 // the built-in alias of the same phrase, its anchors of a class replace that class's built-in
-// anchors, and its stop and general words are added to the built-in ones.
+// anchors and its riders the built-in rider of the same class, and its stop, general and riding
+// words are added to the built-in ones.
 //
 // Parsing checks the form only; class names and synsets are checked against the vocabulary and
 // WordNet when a QueryGrounder is created, with errors naming the file they came from.
@@ -43,6 +47,8 @@ struct AliasTable {
   std::set<std::string> general_words;
   std::map<std::string, AliasEntry> aliases;  // phrase -> class names
   std::map<std::string, AliasEntry> anchors;  // class name (as in the file) -> synsets
+  std::map<std::string, AliasEntry> riders;   // rider class -> {human class, ridden class}
+  std::set<std::string> riding_words;
 
   // The compiled-in table (data/semantics/aliases.json).
   static const AliasTable& builtin();

@@ -4,15 +4,19 @@
 // table (alias_table.hpp) and WordNet's is-a hierarchy.
 //
 // How a query is read:
-//  1. Normal form (normalizePhrase): lower case; punctuation, '-' and '_' separate words.
+//  1. Normal form (normalizePhrase): lower case; punctuation, '-' and '_' separate words. List
+//     punctuation (, ; : / | & + . ! ? and brackets) also separates parts of the query: no phrase,
+//     compound or ride (2, 4, 5) spans two parts ("cars, bikes").
 //  2. Left to right, the longest run of words (up to kMaxPhraseWords, or the longest name or
 //     alias) that names something wins. For each run length, in this order: a class name of the
 //     vocabulary ("traffic signs"), an alias ("street lamps", "vehicles"), a general word
 //     ("things") -- each as written, then in its base forms (WordNet's noun morphology, else
 //     English plural endings: "lorries" -> "lorry") -- then, for runs of 2+ words that neither
 //     begin nor end with a stop word, a WordNet collocation that names a class or is ambiguous
-//     ("telephone poles", "police car"). A single word that is none of these is skipped when it is
-//     a stop word, a number or one letter; otherwise WordNet grounds it (3).
+//     ("telephone poles", "police car"; also hyphenated, as WordNet writes "double-decker" and
+//     "lay-by"). A collocation naming no class is read word by word ("post box": post, box). A
+//     single word that is none of these is skipped when it is a stop or riding word, a number or
+//     one letter; otherwise WordNet grounds it (3).
 //  3. WordNet: the word's noun senses (as written and its base forms) are walked up their is-a
 //     chains (hypernym and instance-hypernym pointers), breadth first. The class whose anchor
 //     (alias table's "anchors") is reached in the fewest is-a steps wins; ties go to the earlier,
@@ -31,6 +35,19 @@
 //       modifier ("shiny");
 //     - else unmatched.
 //     Without WordNet (no database, or use_wordnet false) words not resolved by (2) are unmatched.
+//  4. Compounds: nouns in a row (no stop word between) are one noun, named by the last, its head:
+//     "delivery vans" -> van (car), "lorry drivers" -> driver (person), "oak tree trunks" -> trunk,
+//     "post boxes" -> box (no class, not the post). A noun modifies the next only when written in
+//     its base form, as English modifiers are: plurals are items of a list typed without commas
+//     ("cars bikes buses"), and so are two class names ("car person"). Words neither the table nor
+//     WordNet knows as nouns are reported, never taken as modifiers.
+//  5. Rides (the alias table's "riders" and "riding_words"): a human (a term whose classes are all
+//     humans: the riders' classes and the class they are when not riding) followed by what they
+//     ride (a term whose classes are all ridden) with a riding word between is the rider class:
+//     "people riding bikes" -> bicyclist, "men on motorbikes and mopeds" -> motorcyclist; so is a
+//     human head after a ridden modifier: "bike messengers", "moped riders". Its Match has source
+//     kAlias, lemma "people on bike" and the riders entry's file as origin. Being on anything else
+//     is no ride: "cyclists on the road" -> bicyclist, road.
 //
 // Groups chosen by the built-in table: "vehicles" -> car, bicycle, motorcycle, truck,
 // other-vehicle; "people", "humans" -> person, bicyclist, motorcyclist (every human, riding or
