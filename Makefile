@@ -25,6 +25,7 @@ bench: build
 	build/bench/semantics_bench
 	build/bench/render_bench
 	build/bench/refinement_bench
+	build/bench/segmenter_bench
 
 # Every test, twice: a Release build with warnings as errors (benchmarks compiled too), then an
 # ASan/UBSan build of the library and tests.

@@ -12,6 +12,8 @@ packages=(
   libeigen3-dev libtbb-dev libcgal-dev libembree-dev libnanoflann-dev
   libstb-dev libpng-dev libtinygltf-dev libcli11-dev libspdlog-dev libfmt-dev
   nlohmann-json3-dev libcpp-httplib-dev wordnet-dev wordnet-base
+  # the dense segmenter: OpenCV's dnn and imgproc modules only (not the full libopencv-dev)
+  libopencv-dnn-dev libopencv-imgproc-dev
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev
   # interoperability checks (tests load our files with Open3D)

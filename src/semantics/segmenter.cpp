@@ -7,8 +7,42 @@
 
 namespace artemis::semantics {
 
+ClassId DenseProbabilities::argmax(int u, int v) const {
+  if (!contains(u, v)) return kNoClass;
+  const std::uint8_t* p = at(u, v);
+  std::size_t best = 0;
+  for (std::size_t c = 1; c < classes.size(); ++c) {
+    if (p[c] > p[best]) best = c;
+  }
+  return classes[best];
+}
+
+namespace {
+
+Status validateDense(const DenseProbabilities& dense, std::span<const ClassId> prompts) {
+  if (dense.width <= 0 || dense.height <= 0 || dense.classes.empty() || dense.classes.front() != kNoClass) {
+    return invalidArgument(fmt::format("dense probabilities of {}x{} pixels and {} channels (channel 0 must be none)",
+                                       dense.width, dense.height, dense.classes.size()));
+  }
+  if (dense.values.size() !=
+      static_cast<std::size_t>(dense.width) * static_cast<std::size_t>(dense.height) * dense.classes.size()) {
+    return invalidArgument(fmt::format("dense probabilities hold {} values, not {}x{}x{}", dense.values.size(),
+                                       dense.width, dense.height, dense.classes.size()));
+  }
+  for (std::size_t c = 1; c < dense.classes.size(); ++c) {
+    if (std::find(prompts.begin(), prompts.end(), dense.classes[c]) == prompts.end()) {
+      return invalidArgument(
+          fmt::format("dense channel {} has class {}, which was not prompted", c, int{dense.classes[c]}));
+    }
+  }
+  return Status::ok();
+}
+
+}  // namespace
+
 Status SemanticObservation::validate(std::span<const ClassId> prompts) const {
   if (!observed) return Status::ok();
+  if (isDense()) return validateDense(dense, prompts);
   for (std::size_t k = 0; k < masks.size(); ++k) {
     const Mask& m = masks[k];
     if (!(m.score >= 0.0f && m.score <= 1.0f)) {

@@ -24,6 +24,22 @@ bool dataAvailable(const std::filesystem::path& relative, std::string* why) {
   return false;
 }
 
+std::filesystem::path modelDir() {
+  if (const char* env = std::getenv("ARTEMIS_MODEL_DIR"); env != nullptr && *env != '\0') return env;
+  return ARTEMIS_DEFAULT_MODEL_DIR;
+}
+
+bool modelAvailable(const std::filesystem::path& relative, std::string* why) {
+  const auto path = modelDir() / relative;
+  if (std::filesystem::exists(path)) return true;
+  *why = "model not found at " + path.string() + " (set ARTEMIS_MODEL_DIR to the folder holding enet-cityscapes/)";
+  return false;
+}
+
+std::filesystem::path sourceDir() {
+  return ARTEMIS_SOURCE_DIR;
+}
+
 TempDir::TempDir() {
   std::random_device rd;
   const auto base = std::filesystem::temp_directory_path();

@@ -16,6 +16,13 @@ std::filesystem::path dataDir();
 // Use through ARTEMIS_REQUIRE_DATA, which skips (or fails under CI=true).
 bool dataAvailable(const std::filesystem::path& relative, std::string* why);
 
+// The user's models, found the same way: ARTEMIS_MODEL_DIR, default ../shared/models.
+std::filesystem::path modelDir();
+bool modelAvailable(const std::filesystem::path& relative, std::string* why);
+
+// The repository's own files (data/models/*.json, ...).
+std::filesystem::path sourceDir();
+
 // A fresh, empty folder under the system temp dir, removed when the object dies.
 class TempDir {
  public:
@@ -42,4 +49,14 @@ bool runningInCi();
       if (::artemis::test::runningInCi()) FAIL() << artemis_why_;   \
       GTEST_SKIP() << artemis_why_;                                 \
     }                                                               \
+  } while (0)
+
+// Skips the test (or fails it under CI=true) when ARTEMIS_MODEL_DIR/<relative> is missing.
+#define ARTEMIS_REQUIRE_MODEL(relative)                              \
+  do {                                                               \
+    std::string artemis_why_;                                        \
+    if (!::artemis::test::modelAvailable(relative, &artemis_why_)) { \
+      if (::artemis::test::runningInCi()) FAIL() << artemis_why_;    \
+      GTEST_SKIP() << artemis_why_;                                  \
+    }                                                                \
   } while (0)
