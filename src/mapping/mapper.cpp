@@ -49,7 +49,7 @@ Mapper::Mapper(const MapperParams& params)
       map_(params.voxels),
       mesher_(params.mesher),
       fusion_(params.semantics),
-      refinement_(params.refinement, params.semantics.background_score),
+      refinement_(params.refinement, params.semantics.background_score, params.semantics.geometry),
       constraint_(params.constraint, params.semantics.confidence_lambda),
       swept_(params.vehicle_box_L),
       arena_(std::make_unique<Arena>(params.threads)) {
@@ -98,7 +98,8 @@ FrameStats Mapper::integrate(const PointCloud& points_L, const Isometry3d& T_W_L
   stats.insert_ms = clock.elapsedMs();
 
   if (fuse) {
-    const FusionStats f = fusion_.fuse(points_L, map_, T_W_L, *semantic->view, *semantic->observation, mesh_);
+    const FusionStats f =
+        fusion_.fuse(points_L, map_, T_W_L, *semantic->view, *semantic->observation, mesh_, semantic->vocabulary);
     stats.fuse_ms = f.ms;
     stats.semantic_observations = f.observations;
   }

@@ -17,6 +17,7 @@
 #include "artemis/core/projection.hpp"
 #include "artemis/core/timer.hpp"
 #include "artemis/render/rasterizer.hpp"
+#include "semantic_update.hpp"
 
 namespace artemis::mapping {
 
@@ -250,8 +251,8 @@ std::vector<std::uint32_t> voxelsInView(const VoxelMap& map, const PinholeCamera
   return out;
 }
 
-Refinement::Refinement(const RefinementParams& params, double background_score)
-    : params_(params), background_score_(background_score) {
+Refinement::Refinement(const RefinementParams& params, double background_score, const GeometricPriorParams& geometry)
+    : params_(params), background_score_(background_score), geometry_(geometry) {
   if (!(params.sigma_photo > 0.0) || !(params.sigma_geom > 0.0) || !(params.depth_epsilon_m > 0.0) ||
       !(params.sigma_obs > 0.0) || !(params.min_reliability >= 0.0 && params.min_reliability <= 1.0) ||
       !(params.max_range_m > 0.0) || !(params.mask_floor > 0.0 && params.mask_floor < 1.0) ||
@@ -360,52 +361,21 @@ RefinementStats Refinement::refine(const VoxelMap& map, SemanticMesh& mesh, cons
   // 6. The updates, texture and semantics side by side; every candidate is a distinct vertex.
   const auto fuse_texture = [&] { fuseColours(candidates, mesh, params_); };
   const auto refine_semantics = [&] {
-    // log P_mask per mask id (0: outside every mask): of its own slot, and of every other slot.
-    const float slots = static_cast<float>(mesh.slotCount());
-    const auto floor = static_cast<float>(params_.mask_floor);
-    const auto likelihood = [&](double score) {
-      const auto s = static_cast<float>(score);
-      return std::pair{std::log(std::max(s, floor)), std::log(std::max((1.0f - s) / (slots - 1.0f), floor))};
-    };
-    struct MaskTerm {
-      std::size_t slot;
-      float log_hit;
-      float log_miss;
-    };
-    std::vector<MaskTerm> terms;
-    terms.reserve(observation->masks.size() + 1);
-    const auto [bg_hit, bg_miss] = likelihood(background_score_);
-    terms.push_back({0, bg_hit, bg_miss});
-    for (const semantics::Mask& m : observation->masks) {
-      const int slot = mesh.slotOf(m.class_id);
-      if (slot < 0) throw std::logic_error("refinement: a mask's class has no slot in the mesh");
-      const auto [hit, miss] = likelihood(m.score);
-      terms.push_back({static_cast<std::size_t>(slot), hit, miss});
+    std::vector<SemanticVote> votes;
+    for (const Candidate& c : candidates) {
+      if (c.reliability > 0.0f) votes.push_back({c.vertex, c.u, c.v, c.reliability});
     }
-    mesh.reserveRefinement();
-    const ImageU16& ids = observation->mask_ids;
-    const int border = params_.mask_border_px;
-    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, candidates.size(), 4096), [&](const auto& range) {
-      for (std::size_t k = range.begin(); k < range.end(); ++k) {
-        const Candidate& c = candidates[k];
-        if (!(c.reliability > 0.0f) || !ids.contains(c.u, c.v)) continue;
-        const std::size_t id = ids.at(c.u, c.v);
-        if (id >= terms.size()) continue;  // not a mask of this observation (validate() reports these)
-        if (border > 0) {
-          bool inside = true;
-          for (int dv = -border; dv <= border && inside; dv += border) {
-            for (int du = -border; du <= border && inside; du += border) {
-              const int x = std::clamp(c.u + du, 0, ids.width() - 1);
-              const int y = std::clamp(c.v + dv, 0, ids.height() - 1);
-              inside = ids.at(x, y) == id;
-            }
-          }
-          if (!inside) continue;
-        }
-        const MaskTerm& term = terms[id];
-        mesh.addLogLikelihood(c.vertex, term.slot, term.log_hit, term.log_miss, c.reliability);
-      }
-    });
+    if (observation->isDense()) {
+      const FrameGround ground = input.points_L != nullptr ? FrameGround(*input.points_L, T_W_L) : FrameGround();
+      updateFromDense(votes, observation->dense, geometry_,
+                      input.vocabulary != nullptr ? *input.vocabulary : semantics::Vocabulary::semanticKitti(), ground,
+                      static_cast<float>(params_.mask_floor), mesh);
+    } else {
+      updateFromMasks(
+          votes, *observation,
+          {static_cast<float>(params_.mask_floor), static_cast<float>(background_score_), params_.mask_border_px},
+          mesh);
+    }
   };
   if (texture && observation != nullptr) {
     tbb::parallel_invoke(fuse_texture, refine_semantics);

@@ -7,6 +7,8 @@
 #include <string>
 
 #include "artemis/core/timer.hpp"
+#include "artemis/mapping/dense_evidence.hpp"
+#include "artemis/mapping/frame_ground.hpp"
 #include "artemis/mapping/voxel_map.hpp"
 
 namespace artemis::mapping {
@@ -23,9 +25,63 @@ SemanticFusion::SemanticFusion(const SemanticFusionParams& params) : params_(par
   }
 }
 
+float SemanticFusion::depthGap(const DepthProjection::Point& q, int w, int h) const {
+  const int u = static_cast<int>(q.pixel % static_cast<std::uint32_t>(w));
+  const int v = static_cast<int>(q.pixel / static_cast<std::uint32_t>(w));
+  const std::vector<float>& depth = projected_.nearest.data();
+  const int r = params_.depth_window_px;
+  float nearest = std::numeric_limits<float>::infinity();
+  for (int y = std::max(0, v - r); y <= std::min(h - 1, v + r); ++y) {
+    const float* row = &depth[static_cast<std::size_t>(y) * static_cast<std::size_t>(w)];
+    for (int x = std::max(0, u - r); x <= std::min(w - 1, u + r); ++x) nearest = std::min(nearest, row[x]);
+  }
+  return q.depth - nearest;  // >= 0: the point itself is in the window
+}
+
+FusionStats SemanticFusion::fuseDense(const PointCloud& points_L, const VoxelMap& map, const Isometry3d& T_W_L,
+                                      const CameraView& view, const semantics::DenseProbabilities& dense,
+                                      SemanticMesh& mesh, const semantics::Vocabulary& vocabulary) {
+  Stopwatch clock;
+  FusionStats stats;
+  const int w = dense.width;
+  const int h = dense.height;
+  projectDepth(points_L, view, w, h, projected_);
+  stats.points_in_image = projected_.points.size();
+  const DenseEvidence evidence(dense, mesh, params_.geometry, vocabulary);
+  const FrameGround ground(points_L, T_W_L);
+  const Isometry3d T_W_C = T_W_L * view.T_L_C;
+  const Eigen::Vector3f camera_W = T_W_C.translation().cast<float>();
+  const Eigen::Matrix3f R_W_L = T_W_L.linear().cast<float>();
+  const Eigen::Vector3f t_W_L = T_W_L.translation().cast<float>();
+  const auto inv_sigma_d = static_cast<float>(1.0 / params_.sigma_depth_m);
+  std::vector<float> p(evidence.slots());
+  std::vector<float> scratch(2 * evidence.channels());
+  // In scan order, as fuse(): points sharing a cell add up in a fixed order.
+  for (const DepthProjection::Point& q : projected_.points) {
+    const std::uint32_t vertex = map.insertedVertex(q.index);
+    if (vertex == VoxelMap::kNoVertex) continue;
+    const Eigen::Vector3f p_W = R_W_L * points_L.points[q.index] + t_W_L;
+    const int u = static_cast<int>(q.pixel % static_cast<std::uint32_t>(w));
+    const int v = static_cast<int>(q.pixel / static_cast<std::uint32_t>(w));
+    // Height only: a vertex's normal is the sensor direction until its voxel is meshed.
+    const float sigma_mask = evidence.read(u, v, ground.heightAbove(p_W), nullptr, p.data(), scratch.data());
+    const float cos_view = std::abs((p_W - camera_W).normalized().dot(mesh.normals()[vertex]));
+    const float omega = sigma_mask * cos_view * std::exp(-depthGap(q, w, h) * inv_sigma_d);  // eq. 1
+    if (!(omega > 0.0f)) continue;
+    mesh.observeDistribution(vertex, p.data(), omega);
+    ++stats.observations;
+  }
+  stats.ms = clock.elapsedMs();
+  return stats;
+}
+
 FusionStats SemanticFusion::fuse(const PointCloud& points_L, const VoxelMap& map, const Isometry3d& T_W_L,
                                  const CameraView& view, const semantics::SemanticObservation& observation,
-                                 SemanticMesh& mesh) {
+                                 SemanticMesh& mesh, const semantics::Vocabulary* vocabulary) {
+  if (observation.observed && observation.isDense()) {
+    return fuseDense(points_L, map, T_W_L, view, observation.dense, mesh,
+                     vocabulary != nullptr ? *vocabulary : semantics::Vocabulary::semanticKitti());
+  }
   Stopwatch clock;
   FusionStats stats;
   if (!observation.observed || observation.mask_ids.empty()) return stats;

@@ -67,6 +67,12 @@ float SemanticMesh::voxelSemanticWeight(std::uint32_t v) const {
   return voxel < voxel_weight_.size() ? voxel_weight_[voxel] : 0.0f;
 }
 
+void SemanticMesh::observeDistribution(std::uint32_t v, const float* p, float w) {
+  for (std::size_t s = 0; s < slots_.size(); ++s) {
+    if (p[s] > 0.0f) observe(v, s, w * p[s]);
+  }
+}
+
 void SemanticMesh::reserveRefinement() {
   refined_weight_.resize(positions_.size(), 0.0f);
   log_likelihood_.resize(positions_.size() * slots_.size(), 0.0f);
@@ -75,6 +81,12 @@ void SemanticMesh::reserveRefinement() {
 void SemanticMesh::addLogLikelihood(std::uint32_t v, std::size_t hit_slot, float log_hit, float log_miss, float w) {
   float* lambda = &log_likelihood_[static_cast<std::size_t>(v) * slots_.size()];
   for (std::size_t s = 0; s < slots_.size(); ++s) lambda[s] += w * (s == hit_slot ? log_hit : log_miss);
+  refined_weight_[v] += w;
+}
+
+void SemanticMesh::addLogLikelihoods(std::uint32_t v, const float* log_p, float w) {
+  float* lambda = &log_likelihood_[static_cast<std::size_t>(v) * slots_.size()];
+  for (std::size_t s = 0; s < slots_.size(); ++s) lambda[s] += w * log_p[s];
   refined_weight_[v] += w;
 }
 

@@ -58,6 +58,7 @@ struct FrameStats {
 struct SemanticInput {
   const CameraView* view = nullptr;
   const semantics::SemanticObservation* observation = nullptr;
+  const semantics::Vocabulary* vocabulary = nullptr;  // names the classes (nullptr: SemanticKITTI's)
 };
 
 class Mapper {

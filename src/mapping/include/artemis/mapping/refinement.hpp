@@ -34,6 +34,10 @@
 // both stages: SemanticFusionParams::background_score). Every P_mask is floored at
 // mask_floor so that the log stays finite. The read-out (SemanticMesh::distribution) is the
 // softmax of lambda plus kappa times the log of stage 1's distribution.
+// A dense observation gives P_mask(o | c) per slot directly: the pixel's probabilities weighed by
+// the vertex's geometry (DenseEvidence: height above the frame's ground and its normal), floored
+// at mask_floor. Bleeding at silhouettes is left to W: the LiDAR depth window gives a vertex just
+// behind a nearer object's edge a large r_geom.
 //
 // W is computed for every visible vertex first; the texture and the semantic updates then run in
 // parallel (each vertex is one voxel's, so the updates of different vertices never meet).
@@ -61,6 +65,7 @@
 #include "artemis/core/point_cloud.hpp"
 #include "artemis/core/projection.hpp"
 #include "artemis/core/transform.hpp"
+#include "artemis/mapping/geometric_prior.hpp"
 #include "artemis/mapping/semantic_mesh.hpp"
 #include "artemis/mapping/voxel_map.hpp"
 #include "artemis/semantics/segmenter.hpp"
@@ -127,6 +132,7 @@ struct RefinementInput {
   const semantics::SemanticObservation* observation = nullptr;  // nullptr: no semantic update
   const PointCloud* points_L = nullptr;                         // the frame's LiDAR points: checks the reference depth
   ViewMemory* memory = nullptr;  // when given and the view is textured: filled for a later revisit()
+  const semantics::Vocabulary* vocabulary = nullptr;  // names the classes of a dense observation
 };
 
 // The voxels of `map` whose bounds may be in the view: blocks first, then voxels. Indices into
@@ -137,7 +143,9 @@ std::vector<std::uint32_t> voxelsInView(const VoxelMap& map, const PinholeCamera
 class Refinement {
  public:
   // `background_score`: P_mask(none | outside every mask), in [0, 1].
-  explicit Refinement(const RefinementParams& params, double background_score = 0.5);
+  // `geometry`: the geometric prior of dense observations (one setting with stage 1's).
+  explicit Refinement(const RefinementParams& params, double background_score = 0.5,
+                      const GeometricPriorParams& geometry = {});
 
   // Refines the colours and classes of the vertices `input.view` sees from the LiDAR pose `T_W_L`.
   RefinementStats refine(const VoxelMap& map, SemanticMesh& mesh, const RefinementInput& input,
@@ -153,6 +161,7 @@ class Refinement {
  private:
   RefinementParams params_;
   double background_score_;
+  GeometricPriorParams geometry_;
   DepthProjection lidar_;  // per-frame scratch
 };
 

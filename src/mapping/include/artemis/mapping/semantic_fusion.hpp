@@ -22,6 +22,11 @@
 // vertices the camera never saw unlabelled. A vertex's distribution is therefore its cell's
 // evidence plus its voxel's distribution weighted by voxel_prior (SemanticMesh). Distributions
 // are confidence-weighted averages of one-hot observations: evidence per class / W_sem.
+//
+// A dense observation (per-pixel probabilities) adds, instead of one class, the pixel's whole
+// distribution weighed by the geometry of the point (DenseEvidence: its height above this frame's
+// ground, FrameGround), with sigma_mask the largest of those probabilities: an unsure pixel
+// weighs less, and a "car" pixel on the road at road level mostly says "none".
 
 #include <cstdint>
 #include <vector>
@@ -30,6 +35,7 @@
 #include "artemis/core/point_cloud.hpp"
 #include "artemis/core/projection.hpp"
 #include "artemis/core/transform.hpp"
+#include "artemis/mapping/geometric_prior.hpp"
 #include "artemis/mapping/semantic_mesh.hpp"
 #include "artemis/mapping/voxel_map.hpp"
 #include "artemis/semantics/segmenter.hpp"
@@ -47,6 +53,8 @@ struct SemanticFusionParams {
   double confidence_lambda = 0.5;
   // Weight of the voxel's distribution in each of its vertices' (the cell's evidence adds to it).
   double voxel_prior = 10.0;
+  // What the geometry says of each class, for dense observations (fusion and refinement).
+  GeometricPriorParams geometry;
 };
 
 struct FusionStats {
@@ -63,12 +71,21 @@ class SemanticFusion {
   // `map` took, with pose `T_W_L`; each observes the cell (the vertex) its point fell in. Only the points that
   // project into the image are looked at. Classes of the observation's masks must have slots in
   // `mesh` (SemanticMesh::addSemanticClass).
+  // `vocabulary` names the classes for the geometric prior of dense observations (nullptr:
+  // SemanticKITTI's).
   FusionStats fuse(const PointCloud& points_L, const VoxelMap& map, const Isometry3d& T_W_L, const CameraView& view,
-                   const semantics::SemanticObservation& observation, SemanticMesh& mesh);
+                   const semantics::SemanticObservation& observation, SemanticMesh& mesh,
+                   const semantics::Vocabulary* vocabulary = nullptr);
 
   [[nodiscard]] const SemanticFusionParams& params() const { return params_; }
 
  private:
+  FusionStats fuseDense(const PointCloud& points_L, const VoxelMap& map, const Isometry3d& T_W_L,
+                        const CameraView& view, const semantics::DenseProbabilities& dense, SemanticMesh& mesh,
+                        const semantics::Vocabulary& vocabulary);
+  // d_depth of eq. 1 for a projected point: its depth minus the nearest within the window.
+  [[nodiscard]] float depthGap(const DepthProjection::Point& q, int w, int h) const;
+
   SemanticFusionParams params_;
   DepthProjection projected_;  // per-frame scratch
 };

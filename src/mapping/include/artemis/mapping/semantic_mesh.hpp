@@ -81,6 +81,9 @@ class SemanticMesh {
   [[nodiscard]] float voxelSemanticWeight(std::uint32_t v) const;
   // Adds an observation of weight `w` for `slot` to vertex v's cell and to its voxel.
   void observe(std::uint32_t v, std::size_t slot, float w);
+  // Adds an observation of weight `w` spread over the slots as `p` (slotCount() values summing to
+  // 1): a dense segmenter's distribution at the point's pixel.
+  void observeDistribution(std::uint32_t v, const float* p, float w);
   // Weight of the voxel's distribution in a vertex's (see above); > 0.
   void setVoxelPrior(float weight) { voxel_prior_ = weight; }
   // Stage 2: makes room for every vertex's lambda (call before addLogLikelihood, which may then run
@@ -88,6 +91,8 @@ class SemanticMesh {
   void reserveRefinement();
   // lambda_v,s += w * (s == hit_slot ? log_hit : log_miss) (eq. 12-13), and w to v's refined weight.
   void addLogLikelihood(std::uint32_t v, std::size_t hit_slot, float log_hit, float log_miss, float w);
+  // lambda_v,s += w * log_p[s] for every slot (a dense observation's log P_mask per slot).
+  void addLogLikelihoods(std::uint32_t v, const float* log_p, float w);
   // Sum of the W that refined vertex v's classes (0: never).
   [[nodiscard]] float refinedWeight(std::uint32_t v) const {
     return v < refined_weight_.size() ? refined_weight_[v] : 0.0f;
