@@ -40,8 +40,10 @@ struct RunFlags {
   std::string segmenter;  // "", "sim", "maskfile"
   std::string segmenter_noise = "standard";
   std::uint64_t seed = 1;
-  std::string masks;   // maskfile: the folder of masks
-  std::string sim_gt;  // sim: the simulator's gt/ folder (default: found beside the recording)
+  std::string masks;         // maskfile: the folder of masks
+  std::string sim_gt;        // sim: the simulator's gt/ folder (default: found beside the recording)
+  std::string model;         // dnn
+  std::string model_config;  // dnn
   std::string vocabulary;
   std::string aliases;
   std::string texture = "auto";
@@ -64,8 +66,7 @@ struct SemanticSetup {
 // segmenter; a query without one, or a segmenter without a query, is an error.
 Result<std::unique_ptr<SemanticSetup>> setUpSemantics(const RunFlags& f, const datasets::Dataset& dataset) {
   if (f.segmenter.empty()) {
-    if (!f.queries.empty())
-      return invalidArgument("--query needs a segmenter: --segmenter sim or --segmenter maskfile");
+    if (!f.queries.empty()) return invalidArgument("--query needs a segmenter: --segmenter dnn, sim or maskfile");
     return std::unique_ptr<SemanticSetup>();
   }
   if (f.queries.empty()) {
@@ -100,7 +101,8 @@ Result<std::unique_ptr<SemanticSetup>> setUpSemantics(const RunFlags& f, const d
     for (const auto& a : g->ambiguous) log::warn("query '{}': '{}' left out: {}", q, a.term, a.reason);
     setup->brush.add(q, g->classes);
   }
-  const SegmenterChoice choice{f.segmenter, f.segmenter_noise, f.seed, f.sim_gt, f.masks};
+  const SegmenterChoice choice{f.segmenter, f.segmenter_noise, f.seed,         f.sim_gt,
+                               f.masks,     f.model,           f.model_config, f.params.mapper.threads};
   auto segmenter =
       makeSegmenter(choice, setup->vocabulary, setup->grounder.get(), dataset.root(), &setup->settings_json);
   if (!segmenter) return segmenter.status();
@@ -136,6 +138,10 @@ nlohmann::ordered_json configJson(const RunFlags& f, const std::string& dataset_
                 {"seed", f.seed},
                 {"masks", f.masks},
                 {"sim_gt", f.sim_gt},
+                {"model", f.model},
+                {"model_config", f.model_config},
+                {"segment_every", f.params.semantics.segment_every},
+                {"segment_mode", f.params.semantics.realtime ? "realtime" : "offline"},
                 {"vocabulary", f.vocabulary.empty() ? "semantickitti" : f.vocabulary},
                 {"aliases", f.aliases.empty() ? "built-in" : f.aliases},
                 {"sigma_depth_m", m.semantics.sigma_depth_m},
@@ -428,6 +434,18 @@ void printSummary(const RunFlags& flags, const pipeline::RunReport& report_value
         "per frame (median / p95 ms): fuse {:.1f} / {:.1f} (in total); segmentation ({}) {:.1f} / {:.1f} (apart)\n",
         report->frames_observed, report->frames_unobserved, report->vertices_labelled, report->vertices, flags.out,
         flags.out, fuse.median_ms, fuse.p95_ms, flags.segmenter, segment.median_ms, segment.p95_ms);
+    const std::size_t due = report->frames - report->frames_not_due;
+    fmt::print("frames observed: {} of {} ({:.0f} %); not due (--segment-every): {}", report->frames_observed,
+               report->frames,
+               100.0 * static_cast<double>(report->frames_observed) /
+                   static_cast<double>(std::max<std::size_t>(report->frames, 1)),
+               report->frames_not_due);
+    if (flags.params.semantics.realtime) {
+      fmt::print("; segmenter busy: {}; masks too late for stage 2: {}", report->frames_busy, report->frames_late);
+    } else if (const auto wait = report->times.summary("segment_wait"); due > 0) {
+      fmt::print("; mapping waited for the segmenter {:.1f} / {:.1f} ms a frame", wait.median_ms, wait.p95_ms);
+    }
+    fmt::print("\n");
   }
 }
 
@@ -545,9 +563,19 @@ void addRunCommand(CLI::App& app, int& exit_code) {
                   "Needs --segmenter")
       ->take_all();
   cmd->add_option("--segmenter", flags->segmenter,
-                  "sim: the simulator's ground truth with noise (artemis sim output); maskfile: masks an external "
-                  "segmenter wrote (--masks)")
-      ->check(CLI::IsMember({"sim", "maskfile"}));
+                  "dnn: a dense segmentation network on the CPU (--model, --model-config); sim: the simulator's "
+                  "ground truth with noise (artemis sim output); maskfile: masks an external segmenter wrote (--masks)")
+      ->check(CLI::IsMember({"dnn", "sim", "maskfile"}));
+  cmd->add_option("--model", flags->model, "dnn: the network's weights (Torch7, ONNX, Caffe, TensorFlow)");
+  cmd->add_option("--model-config", flags->model_config,
+                  "dnn: how to feed and read the network (JSON, see README; data/models/enet-cityscapes.json)");
+  cmd->add_option("--segment-every", flags->params.semantics.segment_every,
+                  "Segment every Nth frame with an image (1: all)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1000));
+  cmd->add_flag("--realtime-segmentation", flags->params.semantics.realtime,
+                "Never wait for the segmenter: it takes the newest frame whenever it is free, and its masks are fused "
+                "when they arrive (live use; the frames observed depend on the machine's speed)");
   cmd->add_option("--segmenter-noise", flags->segmenter_noise, "sim: none, standard or heavy")
       ->capture_default_str()
       ->check(CLI::IsMember({"none", "standard", "heavy"}));
@@ -568,6 +596,10 @@ void addRunCommand(CLI::App& app, int& exit_code) {
   cmd->add_option("--sigma-depth", sf.sigma_depth_m, "sigma_d of eq. 1: depth-uncertainty scale (m)")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
+  cmd->add_flag(
+      "--no-geometric-prior", [&sf](std::int64_t) { sf.geometry.enabled = false; },
+      "Dense segmenters: take the pixels' class probabilities as they are, without what the map's geometry "
+      "(height above the ground, surface orientation) says of each class");
   cmd->add_option("--voxel-prior", sf.voxel_prior,
                   "Weight of a vertex's voxel (0.4 m) distribution against its own cell's evidence")
       ->capture_default_str()

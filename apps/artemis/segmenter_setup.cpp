@@ -4,6 +4,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include <thread>
+
+#include "artemis/semantics/dnn_segmenter.hpp"
 #include "artemis/semantics/mask_file_segmenter.hpp"
 #include "artemis/semantics/simulated_segmenter.hpp"
 
@@ -68,8 +71,24 @@ Result<std::unique_ptr<semantics::Segmenter>> makeSegmenter(const SegmenterChoic
     if (!seg) return seg.status();
     segmenter = std::move(*seg);
     settings = {{"masks", fs::absolute(choice.masks).string()}};
+  } else if (choice.kind == "dnn") {
+    if (choice.model.empty() || choice.model_config.empty()) {
+      return invalidArgument(
+          "--segmenter dnn needs --model WEIGHTS and --model-config CONFIG.json (for the ENet of the README: "
+          "data/models/enet-cityscapes.json)");
+    }
+    auto config = semantics::DenseModelConfig::load(choice.model_config, vocabulary);
+    if (!config) return config.status();
+    const int threads =
+        choice.threads > 0 ? choice.threads : static_cast<int>(std::max(1u, std::thread::hardware_concurrency()));
+    auto seg = semantics::DnnSegmenter::open(choice.model, std::move(*config), threads);
+    if (!seg) return seg.status();
+    segmenter = std::move(*seg);
+    settings = {{"model", fs::absolute(choice.model).string()},
+                {"model_config", fs::absolute(choice.model_config).string()},
+                {"threads", choice.threads}};
   } else {
-    return invalidArgument(fmt::format("unknown segmenter '{}' (sim or maskfile)", choice.kind));
+    return invalidArgument(fmt::format("unknown segmenter '{}' (sim, maskfile or dnn)", choice.kind));
   }
   if (settings_json != nullptr) *settings_json = settings.dump();
   return segmenter;
@@ -85,6 +104,10 @@ Result<SegmenterChoice> segmenterChoiceFromJson(const std::string& semantics_jso
       c.sim_gt = s.at("ground_truth").get<std::string>();
       c.noise = s.at("noise").get<std::string>();
       c.seed = s.at("seed").get<std::uint64_t>();
+    } else if (c.kind == "dnn") {
+      c.model = s.at("model").get<std::string>();
+      c.model_config = s.at("model_config").get<std::string>();
+      c.threads = s.value("threads", 0);
     } else {
       c.masks = s.at("masks").get<std::string>();
     }

@@ -14,11 +14,14 @@
 namespace artemis::cli {
 
 struct SegmenterChoice {
-  std::string kind;                // "sim" or "maskfile"
+  std::string kind;                // "sim", "maskfile" or "dnn"
   std::string noise = "standard";  // sim
   std::uint64_t seed = 1;          // sim
   std::string sim_gt;              // sim: empty = found beside the recording
   std::string masks;               // maskfile
+  std::string model;               // dnn: the network's weights
+  std::string model_config;        // dnn: how to feed and read it (DenseModelConfig)
+  int threads = 0;                 // dnn: OpenCV's threads (0: every core)
 };
 
 // Builds the segmenter for a recording in `dataset_root`; a mask file's phrases go through

@@ -123,6 +123,11 @@ FrameStats Mapper::integrate(const PointCloud& points_L, const Isometry3d& T_W_L
   return stats;
 }
 
+FusionStats Mapper::fuseLate(const PointCloud& points_L, const Isometry3d& T_W_L, const SemanticInput& semantic) {
+  if (semantic.view == nullptr || semantic.observation == nullptr) return {};
+  return fusion_.fuseLate(points_L, map_, T_W_L, *semantic.view, *semantic.observation, mesh_, semantic.vocabulary);
+}
+
 RefinementStats Mapper::refine(const RefinementInput& input, const Isometry3d& T_W_L) {
   RefinementStats stats;
   arena_->arena.execute([&] { stats = refinement_.refine(map_, mesh_, input, T_W_L); });

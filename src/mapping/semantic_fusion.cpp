@@ -38,7 +38,7 @@ float SemanticFusion::depthGap(const DepthProjection::Point& q, int w, int h) co
   return q.depth - nearest;  // >= 0: the point itself is in the window
 }
 
-FusionStats SemanticFusion::fuseDense(const PointCloud& points_L, const VoxelMap& map, const Isometry3d& T_W_L,
+FusionStats SemanticFusion::fuseDense(const VertexOf& vertex_of, const PointCloud& points_L, const Isometry3d& T_W_L,
                                       const CameraView& view, const semantics::DenseProbabilities& dense,
                                       SemanticMesh& mesh, const semantics::Vocabulary& vocabulary) {
   Stopwatch clock;
@@ -58,7 +58,7 @@ FusionStats SemanticFusion::fuseDense(const PointCloud& points_L, const VoxelMap
   std::vector<float> scratch(2 * evidence.channels());
   // In scan order, as fuse(): points sharing a cell add up in a fixed order.
   for (const DepthProjection::Point& q : projected_.points) {
-    const std::uint32_t vertex = map.insertedVertex(q.index);
+    const std::uint32_t vertex = vertex_of(q.index);
     if (vertex == VoxelMap::kNoVertex) continue;
     const Eigen::Vector3f p_W = R_W_L * points_L.points[q.index] + t_W_L;
     const int u = static_cast<int>(q.pixel % static_cast<std::uint32_t>(w));
@@ -78,8 +78,24 @@ FusionStats SemanticFusion::fuseDense(const PointCloud& points_L, const VoxelMap
 FusionStats SemanticFusion::fuse(const PointCloud& points_L, const VoxelMap& map, const Isometry3d& T_W_L,
                                  const CameraView& view, const semantics::SemanticObservation& observation,
                                  SemanticMesh& mesh, const semantics::Vocabulary* vocabulary) {
+  return fuseWith([&map](std::size_t i) { return map.insertedVertex(i); }, points_L, T_W_L, view, observation, mesh,
+                  vocabulary);
+}
+
+FusionStats SemanticFusion::fuseLate(const PointCloud& points_L, const VoxelMap& map, const Isometry3d& T_W_L,
+                                     const CameraView& view, const semantics::SemanticObservation& observation,
+                                     SemanticMesh& mesh, const semantics::Vocabulary* vocabulary) {
+  const Eigen::Matrix3f R = T_W_L.linear().cast<float>();
+  const Eigen::Vector3f t = T_W_L.translation().cast<float>();
+  return fuseWith([&](std::size_t i) { return map.vertexAt(R * points_L.points[i] + t); }, points_L, T_W_L, view,
+                  observation, mesh, vocabulary);
+}
+
+FusionStats SemanticFusion::fuseWith(const VertexOf& vertex_of, const PointCloud& points_L, const Isometry3d& T_W_L,
+                                     const CameraView& view, const semantics::SemanticObservation& observation,
+                                     SemanticMesh& mesh, const semantics::Vocabulary* vocabulary) {
   if (observation.observed && observation.isDense()) {
-    return fuseDense(points_L, map, T_W_L, view, observation.dense, mesh,
+    return fuseDense(vertex_of, points_L, T_W_L, view, observation.dense, mesh,
                      vocabulary != nullptr ? *vocabulary : semantics::Vocabulary::semanticKitti());
   }
   Stopwatch clock;
@@ -110,7 +126,7 @@ FusionStats SemanticFusion::fuse(const PointCloud& points_L, const VoxelMap& map
   const auto background = static_cast<float>(params_.background_score);
   // In scan order, one point after the other: points sharing a cell add up in a fixed order.
   for (const DepthProjection::Point& q : projected_.points) {
-    const std::uint32_t vertex = map.insertedVertex(q.index);
+    const std::uint32_t vertex = vertex_of(q.index);
     if (vertex == VoxelMap::kNoVertex) continue;  // a point the map refused
     const int u = static_cast<int>(q.pixel % static_cast<std::uint32_t>(w));
     const int v = static_cast<int>(q.pixel / static_cast<std::uint32_t>(w));

@@ -150,6 +150,16 @@ std::uint32_t VoxelMap::insertedVertex(std::size_t i) const {
   return it == v.sub_cells.end() ? kNoVertex : v.vertices[static_cast<std::size_t>(it - v.sub_cells.begin())];
 }
 
+std::uint32_t VoxelMap::vertexAt(const Eigen::Vector3f& p_W) const {
+  if (!p_W.allFinite() || !(p_W.cwiseAbs().maxCoeff() < 1e6f)) return kNoVertex;  // as insert() refuses
+  const VoxelKey key = keyOf(p_W);
+  const Voxel* v = find(key);
+  if (v == nullptr) return kNoVertex;
+  const auto sub_cell = static_cast<std::uint16_t>(subCellOf(p_W, key));
+  const auto it = std::find(v->sub_cells.begin(), v->sub_cells.end(), sub_cell);
+  return it == v->sub_cells.end() ? kNoVertex : v->vertices[static_cast<std::size_t>(it - v->sub_cells.begin())];
+}
+
 const Voxel* VoxelMap::find(const VoxelKey& key) const {
   std::size_t slot = slotOf(key);
   const std::size_t mask = table_.size() - 1;

@@ -17,6 +17,7 @@
 #include "artemis/core/timer.hpp"
 #include "artemis/io/file.hpp"
 #include "artemis/io/ply.hpp"
+#include "artemis/pipeline/segmentation_stage.hpp"
 #include "artemis/registration/deskew.hpp"
 
 namespace artemis::pipeline {
@@ -117,9 +118,10 @@ std::string timingJson(const RunReport& report) {
   nlohmann::ordered_json j;
   j["frames"] = report.frames;
   nlohmann::ordered_json stages = nlohmann::ordered_json::object();
-  for (const std::string& stage : {std::string("read"), std::string("register"), std::string("segment"),
-                                   std::string("insert"), std::string("fuse"), std::string("mesh"),
-                                   std::string("constrain"), std::string("refine"), std::string("revisit")}) {
+  for (const std::string& stage :
+       {std::string("read"), std::string("register"), std::string("segment"), std::string("segment_wait"),
+        std::string("insert"), std::string("fuse"), std::string("mesh"), std::string("constrain"),
+        std::string("refine"), std::string("revisit")}) {
     if (report.times.samples(stage).empty()) continue;
     const StageSummary s = report.times.summary(stage);
     stages[stage] = {{"median_ms", s.median_ms}, {"p95_ms", s.p95_ms}, {"max_ms", s.max_ms}};
@@ -179,13 +181,16 @@ std::string semanticsJson(const RunReport& report, const RunParams& params) {
   j["camera"] = report.segmented_camera;
   j["frames_observed"] = report.frames_observed;
   j["frames_unobserved"] = report.frames_unobserved;
+  j["frames_not_due"] = report.frames_not_due;
+  j["segment_mode"] = sem.realtime ? "realtime" : "offline";
+  j["frames_busy"] = report.frames_busy;
+  j["frames_late"] = report.frames_late;
+  j["segment_every"] = sem.segment_every;
   j["vertices_labelled"] = report.vertices_labelled;
   const mapping::SemanticFusionParams& f = params.mapper.semantics;
-  j["fusion"] = {{"sigma_depth_m", f.sigma_depth_m},
-                 {"depth_window_px", f.depth_window_px},
-                 {"background_score", f.background_score},
-                 {"confidence_lambda", f.confidence_lambda},
-                 {"voxel_prior", f.voxel_prior}};
+  j["fusion"] = {{"sigma_depth_m", f.sigma_depth_m},       {"depth_window_px", f.depth_window_px},
+                 {"background_score", f.background_score}, {"confidence_lambda", f.confidence_lambda},
+                 {"voxel_prior", f.voxel_prior},           {"geometric_prior", f.geometry.enabled}};
   return j.dump(1) + "\n";
 }
 
@@ -225,6 +230,7 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
   if (semantic && (sem.brush == nullptr || sem.vocabulary == nullptr)) {
     return invalidArgument("semantics: a segmenter needs a brush and a vocabulary");
   }
+  if (sem.segment_every < 1) return invalidArgument("semantics: segment_every must be >= 1");
   std::size_t unobserved_logged = 0;
   const auto unobserved = [&](std::size_t index, const std::string& why) {
     ++report.frames_unobserved;
@@ -258,8 +264,12 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
   const auto refineView = [&](DelayedView& d, bool keep) {
     Stopwatch refine_clock;
     mapping::ViewMemory memory;
-    const mapping::RefinementInput input{&d.frame.cameras[d.camera], d.texture, d.semantics ? &d.observation : nullptr,
-                                         &d.frame.points_L, keep && revisits && d.texture ? &memory : nullptr};
+    const mapping::RefinementInput input{&d.frame.cameras[d.camera],
+                                         d.texture,
+                                         d.semantics ? &d.observation : nullptr,
+                                         &d.frame.points_L,
+                                         keep && revisits && d.texture ? &memory : nullptr,
+                                         sem.vocabulary};
     const mapping::RefinementStats r = mapper.refine(input, d.T_W_L);
     if (!memory.empty()) kept.push_back({std::move(d.frame.cameras[d.camera]), std::move(memory), d.i, d.frame.index});
     report.times.add("refine", refine_clock.elapsedMs());
@@ -294,9 +304,48 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
   std::size_t last_i = 0;
   double last_stamp_s = 0.0;
   const std::size_t total = dataset.size();
-  // Frame i + 1 is read (scan and image decoded) while frame i is mapped; "read" is the wait.
-  const auto read = [&dataset](std::size_t i) { return dataset.frame(i); };
-  std::future<Result<Frame>> pending;
+  // Frame i + 1 is read (scan and image decoded) and segmented while frame i is mapped; "read" is
+  // the wait for it.
+  // Offline, segmentation rides with the reader; in real time it runs on a worker of its own that
+  // takes the newest frame whenever it is free, and its masks are fused when they arrive.
+  std::optional<SegmentationStage> segmentation;
+  std::unique_ptr<SegmentationWorker> live;
+  if (semantic && sem.realtime) {
+    live = std::make_unique<SegmentationWorker>(*sem.segmenter);
+  } else if (semantic) {
+    segmentation.emplace(*sem.segmenter, *sem.brush, sem.camera, sem.segment_every);
+  }
+  // Masks that arrived from the worker: fused into the cells of their frame's points now, and kept
+  // for the frame's stage 2 where its view still waits; after that they come too late.
+  const auto acceptLive = [&](std::vector<SegmentationWorker::Done> arrived) {
+    for (SegmentationWorker::Done& done : arrived) {
+      report.times.add("segment", done.outcome.ms);
+      if (!done.outcome.observation.observed) {
+        unobserved(done.frame_index, done.outcome.failure);
+        continue;
+      }
+      const auto d = std::find_if(delayed.begin(), delayed.end(), [&](const DelayedView& v) { return v.i == done.i; });
+      if (d == delayed.end()) {
+        ++report.frames_late;
+        continue;
+      }
+      d->observation = std::move(done.outcome.observation);
+      const mapping::SemanticInput input{&d->frame.cameras[d->camera], &d->observation, sem.vocabulary};
+      report.times.add("fuse", mapper.fuseLate(d->frame.points_L, d->T_W_L, input).ms);
+      d->semantics = params.mapper.refinement.semantic_refinement;
+      ++report.frames_observed;
+    }
+  };
+  struct ReadFrame {
+    Result<Frame> frame;
+    SegmentOutcome segmented;
+  };
+  const auto read = [&dataset, &segmentation](std::size_t i) {
+    ReadFrame r{dataset.frame(i), {}};
+    if (r.frame && segmentation) r.segmented = segmentation->segment(i, *r.frame);
+    return r;
+  };
+  std::future<ReadFrame> pending;
   if (total > 0) pending = std::async(std::launch::async, read, std::size_t{0});
   for (std::size_t i = 0; i < total; ++i) {
     // The prior: the recording's motion since the last mapped frame, composed with that frame's
@@ -310,9 +359,10 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
       }
     }
     Stopwatch frame_clock;
-    auto frame = pending.get();
+    ReadFrame got = pending.get();
     if (i + 1 < total) pending = std::async(std::launch::async, read, i + 1);
     const double read_ms = frame_clock.elapsedMs();
+    auto& frame = got.frame;
     if (!frame) {
       log::warn("frame {} skipped: {}", dataset.firstIndex() + i, frame.status().message());
       ++report.frames_failed;
@@ -359,46 +409,48 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
       }
       report.times.add("register", register_clock.elapsedMs());
     }
-    // Segmentation: apart from the mapping pipeline's time (a neural segmenter runs on its own).
-    double segment_ms = 0.0;
+    // Segmentation ran on the reader's thread; the mapping thread waited for it only where it took
+    // longer than mapping the frame before ("segment_wait", left out of "total").
+    double segment_wait_ms = 0.0;
     semantics::SemanticObservation observation;
-    // The camera segmented and textured: the one asked for, else the frame's first.
-    const CameraView* view = nullptr;
-    for (const CameraView& c : frame->cameras) {
-      if (c.name == sem.camera) view = &c;
-    }
-    if (view == nullptr && !frame->cameras.empty()) view = &frame->cameras.front();
-    if (semantic) {
-      Stopwatch segment_clock;
+    const CameraView* view = segmentedView(*frame, sem.camera);
+    bool offered = false;  // real time: the worker took this frame
+    if (live) {
       const std::vector<semantics::ClassId> prompts = sem.brush->beginFrame(i);
       for (const semantics::ClassId c : prompts) mapper.addSemanticClass(c);
-      if (view != nullptr) report.segmented_camera = view->name;
-      if (view == nullptr) {
-        unobserved(frame->index, "the recording has no camera");
-      } else if (!view->hasImage()) {
-        unobserved(frame->index, fmt::format("no image {}", view->image_path));
+      if (i % static_cast<std::size_t>(sem.segment_every) != 0) {
+        ++report.frames_not_due;
+      } else if (view == nullptr || !view->hasImage()) {
+        unobserved(frame->index, view == nullptr ? "the recording has no camera" : "no image " + view->image_path);
       } else {
-        auto segmented = sem.segmenter->segment({frame->index, view}, prompts);
-        if (!segmented) {
-          unobserved(frame->index, segmented.status().message());
-        } else if (!segmented->observed) {
-          unobserved(frame->index, segmented->note);
-        } else if (Status valid = segmented->validate(prompts); !valid.isOk()) {
-          unobserved(frame->index, fmt::format("{} segmenter: {}", sem.segmenter->name(), valid.message()));
+        if (!view->name.empty()) report.segmented_camera = view->name;
+        offered = live->offer({i, frame->index, *view, prompts});
+        report.frames_busy += offered ? 0 : 1;
+      }
+    } else if (semantic) {
+      SegmentOutcome& seg = got.segmented;
+      for (const semantics::ClassId c : seg.prompts) mapper.addSemanticClass(c);
+      if (!seg.due) {
+        ++report.frames_not_due;
+      } else {
+        if (!seg.camera.empty()) report.segmented_camera = seg.camera;
+        if (!seg.observation.observed) {
+          unobserved(frame->index, seg.failure);
         } else {
-          observation = std::move(*segmented);
+          observation = std::move(seg.observation);
           ++report.frames_observed;
         }
+        report.times.add("segment", seg.ms);
+        segment_wait_ms = std::min(read_ms, seg.ms);
+        report.times.add("segment_wait", segment_wait_ms);
       }
-      segment_ms = segment_clock.elapsedMs();
-      report.times.add("segment", segment_ms);
     }
-    const mapping::SemanticInput semantic_input{view, &observation};
+    const mapping::SemanticInput semantic_input{view, &observation, sem.vocabulary};
     const mapping::FrameStats stats =
         mapper.integrate(frame->points_L, T_W_L, observation.observed ? &semantic_input : nullptr);
     report.times.add("read", read_ms);
     report.times.add("insert", stats.insert_ms);
-    if (semantic) report.times.add("fuse", stats.fuse_ms);
+    if (semantic && !live) report.times.add("fuse", stats.fuse_ms);
     report.times.add("mesh", stats.mesh_ms);
     if (params.mapper.constraint.enabled) report.times.add("constrain", stats.constrain_ms);
     report.faces_cut += stats.faces_cut;
@@ -423,10 +475,11 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
     // The view waits texture_delay frames (see RunParams): it is refined once later scans have
     // meshed what it saw.
     std::optional<mapping::RefinementStats> refined;
-    if (view != nullptr && view->hasImage() && (texture || refine_semantics)) {
+    if (view != nullptr && view->hasImage() && (texture || refine_semantics || offered)) {
       const auto camera = static_cast<std::size_t>(view - frame->cameras.data());
       delayed.push_back({std::move(*frame), camera, std::move(observation), texture, refine_semantics, T_W_L, i});
     }
+    if (live) acceptLive(live->poll());
     // The views now due (one a frame, more after an unreadable frame); the observer hears of all
     // they looked at.
     for (; !delayed.empty() && delayed.front().i + static_cast<std::size_t>(params.texture_delay) <= i;
@@ -436,7 +489,7 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
     for (; !kept.empty() && kept.front().i + static_cast<std::size_t>(params.texture_revisit) <= i; kept.pop_front()) {
       absorb(refined, revisitView(kept.front()));
     }
-    report.times.add("total", frame_clock.elapsedMs() - segment_ms);
+    report.times.add("total", frame_clock.elapsedMs() - segment_wait_ms);
     trajectory += formatRowMajor3x4(T_W_L) + "\n";
     last_T = T_W_L;
     last_i = i;
@@ -458,6 +511,7 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
   mapper.finish();
   report.finish_ms = finish_clock.elapsedMs();
   // The views still waiting, against the final mesh; the observer hears of all they looked at.
+  if (live) acceptLive(live->drain());
   std::optional<mapping::RefinementStats> flushed;
   for (; !delayed.empty(); delayed.pop_front()) absorb(flushed, refineView(delayed.front(), false));
   for (; !kept.empty(); kept.pop_front()) absorb(flushed, revisitView(kept.front()));

@@ -174,6 +174,33 @@ TEST(DenseRefinement, TheSameHoldsAfterTheViewsLogLikelihoods) {
   EXPECT_GT(with.wall_car, 0.95);
 }
 
+TEST(DenseFusion, LateFusionFindsTheVerticesOfTheFramesCells) {
+  // The same frame fused on insert, and inserted first then fused late (a segmenter behind the mapper).
+  const PointCloud cloud = roadAndCar();
+  CameraView view = test::forwardCamera();
+  const SemanticObservation obs = everywhereCar(0.9f);
+  const SemanticInput input{&view, &obs, &kitti()};
+  Mapper now(MapperParams{});
+  now.addSemanticClass(id("car"));
+  const FrameStats on_insert = now.integrate(cloud, Isometry3d::Identity(), &input);
+  Mapper late(MapperParams{});
+  late.addSemanticClass(id("car"));
+  late.integrate(cloud, Isometry3d::Identity(), nullptr);
+  const FusionStats f = late.fuseLate(cloud, Isometry3d::Identity(), input);
+  EXPECT_EQ(f.observations, on_insert.semantic_observations);
+  ASSERT_EQ(now.mesh().vertexCount(), late.mesh().vertexCount());
+  // The weights differ (late, cos(theta_view) uses the fitted planes' normals rather than the
+  // direction to the sensor), the cells observed and the classes do not.
+  std::size_t differ = 0;
+  for (std::uint32_t v = 0; v < now.mesh().vertexCount(); ++v) {
+    ASSERT_EQ(now.mesh().semanticWeight(v) > 0.0f, late.mesh().semanticWeight(v) > 0.0f) << v;
+    differ += now.mesh().vertexClass(v) != late.mesh().vertexClass(v) ? 1 : 0;
+  }
+  EXPECT_EQ(differ, 0u);
+  EXPECT_EQ(late.voxels().vertexAt(Eigen::Vector3f(100, 100, 100)), VoxelMap::kNoVertex);
+  EXPECT_EQ(late.voxels().vertexAt(Eigen::Vector3f(NAN, 0, 0)), VoxelMap::kNoVertex);
+}
+
 TEST(DenseObservation, ValidateChecksSizeChannelsAndPrompts) {
   SemanticObservation obs = everywhereCar(0.7f);
   const std::vector<ClassId> prompts{id("car")};

@@ -71,6 +71,9 @@ class Mapper {
   // With `semantic`, the observation is fused into the cells of the frame's points (1b) after they
   // are inserted (1a) and before meshing (1c).
   FrameStats integrate(const PointCloud& points_L, const Isometry3d& T_W_L, const SemanticInput* semantic = nullptr);
+  // 1b for an observation that arrives after its frame was integrated (a segmenter running behind
+  // the mapper): the frame's points observe the vertices now in their cells. Returns fusion's stats.
+  FusionStats fuseLate(const PointCloud& points_L, const Isometry3d& T_W_L, const SemanticInput& semantic);
   // Stage 2: refines the colours and classes of the vertices `input.view` sees from the LiDAR pose
   // `T_W_L` (Refinement::refine).
   RefinementStats refine(const RefinementInput& input, const Isometry3d& T_W_L);

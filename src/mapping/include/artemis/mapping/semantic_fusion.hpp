@@ -29,6 +29,7 @@
 // weighs less, and a "car" pixel on the road at road level mostly says "none".
 
 #include <cstdint>
+#include <functional>
 #include <vector>
 
 #include "artemis/core/frame.hpp"
@@ -77,10 +78,21 @@ class SemanticFusion {
                    const semantics::SemanticObservation& observation, SemanticMesh& mesh,
                    const semantics::Vocabulary* vocabulary = nullptr);
 
+  // The same for an observation that arrives after its frame was inserted (a segmenter running
+  // behind the mapper): each point observes the vertex the map now holds in its cell.
+  FusionStats fuseLate(const PointCloud& points_L, const VoxelMap& map, const Isometry3d& T_W_L, const CameraView& view,
+                       const semantics::SemanticObservation& observation, SemanticMesh& mesh,
+                       const semantics::Vocabulary* vocabulary = nullptr);
+
   [[nodiscard]] const SemanticFusionParams& params() const { return params_; }
 
  private:
-  FusionStats fuseDense(const PointCloud& points_L, const VoxelMap& map, const Isometry3d& T_W_L,
+  // The vertex point i observes (VoxelMap::kNoVertex: none).
+  using VertexOf = std::function<std::uint32_t(std::size_t)>;
+  FusionStats fuseWith(const VertexOf& vertex_of, const PointCloud& points_L, const Isometry3d& T_W_L,
+                       const CameraView& view, const semantics::SemanticObservation& observation, SemanticMesh& mesh,
+                       const semantics::Vocabulary* vocabulary);
+  FusionStats fuseDense(const VertexOf& vertex_of, const PointCloud& points_L, const Isometry3d& T_W_L,
                         const CameraView& view, const semantics::DenseProbabilities& dense, SemanticMesh& mesh,
                         const semantics::Vocabulary& vocabulary);
   // d_depth of eq. 1 for a projected point: its depth minus the nearest within the window.

@@ -52,6 +52,8 @@ class VoxelMap {
   // that was there before), or kNoVertex for a refused point. Valid until the next insert().
   [[nodiscard]] std::uint32_t insertedVertex(std::size_t i) const;
   static constexpr std::uint32_t kNoVertex = std::numeric_limits<std::uint32_t>::max();
+  // The vertex holding the sub-cell of world point p_W, or kNoVertex where the map has none.
+  [[nodiscard]] std::uint32_t vertexAt(const Eigen::Vector3f& p_W) const;
 
   [[nodiscard]] const Voxel* find(const VoxelKey& key) const;
   Voxel* find(const VoxelKey& key);

@@ -40,6 +40,13 @@ struct SemanticRunParams {
   std::string camera;  // the segmented camera's name; empty (or absent from a frame): the frame's first camera
   bool write_distribution = false;             // prob_<class> per vertex in mesh.ply
   std::string segmenter_settings_json = "{}";  // recorded in semantics.json
+  // Every segment_every-th frame of the range is segmented (the others are mapped without).
+  int segment_every = 1;
+  // Live use: the segmenter runs on a worker of its own and takes the newest frame whenever it is
+  // free; the mapper never waits, and masks are fused (stage 1 late, by the cells of the frame's
+  // points, and stage 2 with the frame's view) when they arrive. The frames observed then depend
+  // on the machine's speed. Off (offline): every frame due is segmented, the next while one is mapped.
+  bool realtime = false;
 };
 
 // What a run shows an observer (the live viewer) after each frame, on the mapping thread: the
@@ -118,6 +125,9 @@ struct RunReport {
   // (no image, no mask file, a segmenter error; each logged).
   std::size_t frames_observed = 0;
   std::size_t frames_unobserved = 0;
+  std::size_t frames_not_due = 0;            // left out by segment_every
+  std::size_t frames_busy = 0;               // real time: the segmenter was busy with an earlier frame
+  std::size_t frames_late = 0;               // real time: masks arrived after the frame's view was refined
   std::size_t vertices_labelled = 0;         // mesh vertices with a class
   std::string segmented_camera;              // the camera whose images were segmented
   std::vector<std::size_t> held_out_frames;  // recording indices left out of texturing
