@@ -365,16 +365,15 @@ RefinementStats Refinement::refine(const VoxelMap& map, SemanticMesh& mesh, cons
     for (const Candidate& c : candidates) {
       if (c.reliability > 0.0f) votes.push_back({c.vertex, c.u, c.v, c.reliability});
     }
+    const MaskUpdateSettings settings{static_cast<float>(params_.mask_floor), static_cast<float>(background_score_),
+                                      params_.mask_border_px};
     if (observation->isDense()) {
       const FrameGround ground = input.points_L != nullptr ? FrameGround(*input.points_L, T_W_L) : FrameGround();
       updateFromDense(votes, observation->dense, geometry_,
                       input.vocabulary != nullptr ? *input.vocabulary : semantics::Vocabulary::semanticKitti(), ground,
-                      static_cast<float>(params_.mask_floor), mesh);
+                      settings, mesh);
     } else {
-      updateFromMasks(
-          votes, *observation,
-          {static_cast<float>(params_.mask_floor), static_cast<float>(background_score_), params_.mask_border_px},
-          mesh);
+      updateFromMasks(votes, *observation, settings, mesh);
     }
   };
   if (texture && observation != nullptr) {

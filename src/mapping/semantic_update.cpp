@@ -64,8 +64,21 @@ void updateFromMasks(const std::vector<SemanticVote>& votes, const semantics::Se
 
 void updateFromDense(const std::vector<SemanticVote>& votes, const semantics::DenseProbabilities& dense,
                      const GeometricPriorParams& geometry, const semantics::Vocabulary& vocabulary,
-                     const FrameGround& ground, float mask_floor, SemanticMesh& mesh) {
+                     const FrameGround& ground, const MaskUpdateSettings& settings, SemanticMesh& mesh) {
   const DenseEvidence evidence(dense, mesh, geometry, vocabulary);
+  const int border = settings.mask_border_px;
+  const float mask_floor = settings.mask_floor;
+  const auto interior = [&](int u, int v) {
+    const semantics::ClassId centre = dense.argmax(u, v);
+    for (int dv = -border; dv <= border; dv += border) {
+      for (int du = -border; du <= border; du += border) {
+        const int x = std::clamp(u + du, 0, dense.width - 1);
+        const int y = std::clamp(v + dv, 0, dense.height - 1);
+        if (dense.argmax(x, y) != centre) return false;
+      }
+    }
+    return true;
+  };
   mesh.reserveRefinement();
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, votes.size(), 4096), [&](const auto& range) {
     std::vector<float> p(evidence.slots());
@@ -73,6 +86,7 @@ void updateFromDense(const std::vector<SemanticVote>& votes, const semantics::De
     for (std::size_t k = range.begin(); k < range.end(); ++k) {
       const SemanticVote& c = votes[k];
       if (!dense.contains(c.u, c.v)) continue;
+      if (border > 0 && !interior(c.u, c.v)) continue;
       const Eigen::Vector3f& p_W = mesh.positions()[c.vertex];
       const Eigen::Vector3f& normal = mesh.normals()[c.vertex];
       evidence.read(c.u, c.v, ground.heightAbove(p_W), &normal, p.data(), scratch.data());

@@ -33,9 +33,11 @@ void updateFromMasks(const std::vector<SemanticVote>& votes, const semantics::Se
                      const MaskUpdateSettings& settings, SemanticMesh& mesh);
 
 // P_mask(o | c) per slot: the pixel's probabilities weighed by the vertex's height above `ground`
-// and its normal (DenseEvidence), floored at mask_floor. Runs in parallel over the votes.
+// and its normal (DenseEvidence), floored at mask_floor. As with masks, a pixel whose most probable
+// class differs mask_border_px away (an object's edge, where a network's labels bleed) observes
+// nothing. Runs in parallel over the votes.
 void updateFromDense(const std::vector<SemanticVote>& votes, const semantics::DenseProbabilities& dense,
                      const GeometricPriorParams& geometry, const semantics::Vocabulary& vocabulary,
-                     const FrameGround& ground, float mask_floor, SemanticMesh& mesh);
+                     const FrameGround& ground, const MaskUpdateSettings& settings, SemanticMesh& mesh);
 
 }  // namespace artemis::mapping
