@@ -74,10 +74,15 @@ float luminance(const Eigen::Vector3f& c) {
   return 0.2126f * c.x() + 0.7152f * c.y() + 0.0722f * c.z();
 }
 
+// A vertex is seen through when the nearest LiDAR return around its pixel lies this much farther.
+constexpr float kSeenThroughM = 0.5f;
+constexpr float kSeenThroughShare = 0.05f;
+
 struct Candidate {
   std::uint32_t vertex = 0;
   Eigen::Vector3f colour = Eigen::Vector3f::Zero();  // linear RGB, before the gain
   float r_geom = 0.0f;
+  float depth_m = 0.0f;      // d_proj
   float reliability = 0.0f;  // W
   int u = 0;                 // nearest pixel
   int v = 0;
@@ -125,6 +130,7 @@ class ViewSampler {
     c.u = static_cast<int>(std::lround(u));
     c.v = static_cast<int>(std::lround(v));
     const float d_ref = depth_at(c.u, c.v);
+    c.depth_m = p_C.z();
     c.r_geom = std::isfinite(d_ref) ? std::abs(p_C.z() - d_ref) / std::max(d_ref, epsilon_) : 0.0f;
     c.valid = true;
     if (c.r_geom > hidden_) return true;  // W will be 0 whatever the colour
@@ -361,9 +367,18 @@ RefinementStats Refinement::refine(const VoxelMap& map, SemanticMesh& mesh, cons
   // 6. The updates, texture and semantics side by side; every candidate is a distinct vertex.
   const auto fuse_texture = [&] { fuseColours(candidates, mesh, params_); };
   const auto refine_semantics = [&] {
+    // A vertex this frame's LiDAR saw through (every return around its pixel lies well behind it)
+    // was not there when the image was taken, such as the trail a moving car left: the pixel shows
+    // what lies behind, so it says nothing of the vertex's class.
+    const bool lidar = input.points_L != nullptr && params_.lidar_window_px >= 0;
+    const auto seen_through = [&](const Candidate& c) {
+      if (!lidar) return false;
+      const float d = lidar_.nearest.at(c.u, c.v);
+      return std::isfinite(d) && d > c.depth_m + std::max(kSeenThroughM, kSeenThroughShare * c.depth_m);
+    };
     std::vector<SemanticVote> votes;
     for (const Candidate& c : candidates) {
-      if (c.reliability > 0.0f) votes.push_back({c.vertex, c.u, c.v, c.reliability});
+      if (c.reliability > 0.0f && !seen_through(c)) votes.push_back({c.vertex, c.u, c.v, c.reliability});
     }
     const MaskUpdateSettings settings{static_cast<float>(params_.mask_floor), static_cast<float>(background_score_),
                                       params_.mask_border_px};

@@ -174,6 +174,44 @@ TEST(DenseRefinement, TheSameHoldsAfterTheViewsLogLikelihoods) {
   EXPECT_GT(with.wall_car, 0.95);
 }
 
+TEST(DenseRefinement, AVertexTheFramesLidarSawThroughTakesNoVote) {
+  // A car-sized wall mapped at 8 m; a later view whose image says "none" everywhere, once with the
+  // wall still in its LiDAR scan and once with only a wall 15 m away behind it (the car drove on).
+  CameraView view = test::forwardCamera();
+  view.image = ImageU8(200, 100, 3, 128);
+  const SemanticObservation car = everywhereCar(0.9f);
+  const SemanticObservation none = everywhereCar(0.0f);
+  const PointCloud wall = test::wall(8.0f, 1.0f, 0.6f);
+  const PointCloud behind = test::wall(15.0f, 3.0f, 1.5f);
+  for (const bool gone : {false, true}) {
+    Mapper mapper(MapperParams{});
+    mapper.addSemanticClass(id("car"));
+    const SemanticInput input{&view, &car, &kitti()};
+    mapper.integrate(wall, Isometry3d::Identity(), &input);
+    mapper.finish();
+    const auto carVertices = [&] {
+      std::size_t c = 0;
+      for (std::uint32_t v = 0; v < mapper.mesh().vertexCount(); ++v) c += mapper.mesh().vertexClass(v) == id("car");
+      return c;
+    };
+    const std::size_t before = carVertices();
+    ASSERT_GT(before, 100u);
+    const RefinementInput later{&view, false, &none, gone ? &behind : &wall, nullptr, &kitti()};
+    RefinementStats r;
+    for (int k = 0; k < 4; ++k) r = mapper.refine(later, Isometry3d::Identity());  // four such views
+    std::size_t voted = 0;
+    for (std::uint32_t v = 0; v < mapper.mesh().vertexCount(); ++v) voted += mapper.mesh().refinedWeight(v) > 0.0f;
+    EXPECT_GT(r.vertices_in_view, before / 2);
+    if (gone) {
+      EXPECT_EQ(voted, 0u);  // seen through: the view shows what is behind
+      EXPECT_EQ(carVertices(), before);
+    } else {
+      EXPECT_GT(voted, before * 9 / 10);  // still there: the views' "none" counts
+      EXPECT_LT(carVertices(), before / 10);
+    }
+  }
+}
+
 TEST(DenseFusion, LateFusionFindsTheVerticesOfTheFramesCells) {
   // The same frame fused on insert, and inserted first then fused late (a segmenter behind the mapper).
   const PointCloud cloud = roadAndCar();
