@@ -1,7 +1,8 @@
 // artemis eval semantics: per-class IoU of a run's semantic mesh against labelled LiDAR scans
 // (DESIGN.md, "How results are measured"). The run folder gives the mesh (mesh.ply with a per-vertex
 // class_id), the classes (semantics.json: the vocabulary and the prompted class ids), the poses
-// (trajectory.txt) and the frame range (config.json); --labels gives the scans and their labels.
+// (trajectory.txt) and the frame range (config.json); --labels gives the scans and their labels
+// (--boxes, the truth from 3-D boxes, is eval_boxes.cpp).
 #include <fmt/format.h>
 #include <CLI/CLI.hpp>
 
@@ -23,9 +24,10 @@
 #include "artemis/io/file.hpp"
 #include "artemis/io/ply.hpp"
 #include "artemis/semantics/vocabulary.hpp"
+#include "eval_semantics.hpp"
 #include "progress.hpp"
+#include "run_classes.hpp"
 #include "run_folder.hpp"
-#include "segmenter_setup.hpp"
 
 namespace artemis::cli {
 namespace {
@@ -33,87 +35,6 @@ namespace {
 namespace fs = std::filesystem;
 using Json = nlohmann::ordered_json;
 
-struct SemanticsEvalFlags {
-  std::string run;
-  std::string labels;
-  std::string json;
-  std::string sequence;  // empty: the run's, else "00"
-  double max_distance_m = 0.3;
-  double min_range_m = datasets::DatasetOptions{}.min_range_m;
-  double max_range_m = datasets::DatasetOptions{}.max_range_m;
-  bool masks_alone = false;
-};
-
-// What the run was asked for: its vocabulary and the prompted classes, which are the ones scored.
-struct RunClasses {
-  semantics::Vocabulary vocabulary;
-  std::vector<eval::EvaluatedClass> evaluated;
-};
-
-Result<RunClasses> readRunClasses(const fs::path& path) {
-  auto j = readJsonFile(path, "; the run has no semantics (make it with artemis run --query)");
-  if (!j) return j.status();
-  const std::string file = path.string();
-  if (!j->is_object() || !j->contains("vocabulary") || !(*j)["vocabulary"].is_object()) {
-    return parseError(file + ": no \"vocabulary\" object");
-  }
-  auto vocabulary = semantics::Vocabulary::parse((*j)["vocabulary"].dump(), file);
-  if (!vocabulary) return vocabulary.status();
-  if (!j->contains("prompted") || !(*j)["prompted"].is_array()) return parseError(file + ": no \"prompted\" array");
-  RunClasses out{std::move(*vocabulary), {}};
-  for (const auto& id_json : (*j)["prompted"]) {
-    if (!id_json.is_number_integer())
-      return parseError(fmt::format("{}: prompted id {} is not an integer", file, id_json.dump()));
-    const auto id = id_json.get<long long>();
-    const semantics::SemanticClass* cls =
-        id > 0 && id <= semantics::kMaxClasses ? out.vocabulary.find(static_cast<semantics::ClassId>(id)) : nullptr;
-    if (cls == nullptr) return parseError(fmt::format("{}: prompted class {} is not in the vocabulary", file, id));
-    const bool seen = std::any_of(out.evaluated.begin(), out.evaluated.end(),
-                                  [&](const eval::EvaluatedClass& c) { return c.id == cls->id; });
-    if (!seen) out.evaluated.push_back({cls->id, cls->name});
-  }
-  if (out.evaluated.empty()) return parseError(file + ": no prompted class, nothing to score");
-  return out;
-}
-
-struct MeshClasses {
-  std::vector<Eigen::Vector3f> vertices;
-  std::vector<eval::SemanticId> classes;
-};
-
-Result<MeshClasses> readMeshClasses(const fs::path& path) {
-  const std::string file = path.string();
-  auto ply = io::readPly(path);
-  if (!ply) return ply.status();
-  if (ply->find("vertex") == nullptr) return parseError(file + ": no 'vertex' element");
-  const io::PlyProperty* class_id = ply->find("vertex")->find("class_id");
-  if (class_id == nullptr || class_id->is_list) {
-    return parseError(file + ": has no class_id: run with --query (a mesh without semantics cannot be scored)");
-  }
-  std::array<std::vector<float>, 3> xyz;
-  for (std::size_t axis = 0; axis < 3; ++axis) {
-    auto column = ply->scalarAs<float>("vertex", std::array{"x", "y", "z"}[axis]);
-    if (!column) return Status(column.status().code(), file + ": " + column.status().message());
-    xyz[axis] = std::move(*column);
-  }
-  auto ids = ply->scalarAs<std::int32_t>("vertex", "class_id");
-  if (!ids) return Status(ids.status().code(), file + ": " + ids.status().message());
-  MeshClasses mesh;
-  mesh.vertices.resize(xyz[0].size());
-  mesh.classes.resize(xyz[0].size());
-  for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
-    const std::int32_t id = (*ids)[i];
-    if (id < 0 || id > semantics::kMaxClasses) {
-      return parseError(
-          fmt::format("{}: vertex {} has class_id {}, expected 0..{}", file, i, id, semantics::kMaxClasses));
-    }
-    mesh.vertices[i] = {xyz[0][i], xyz[1][i], xyz[2][i]};
-    mesh.classes[i] = static_cast<eval::SemanticId>(id);
-  }
-  return mesh;
-}
-
-// The part of the run's config.json that decides which points it mapped.
 // One frame's labelled points in the world, with their truth class and whether they project into
 // the camera's image.
 struct LabelledPoints {
@@ -122,13 +43,6 @@ struct LabelledPoints {
   std::vector<std::uint8_t> in_frustum;
   std::vector<Eigen::Vector2i> pixel;  // in-frustum points: the pixel they project into
 };
-
-const CameraView* frustumCamera(const Frame& frame) {
-  for (const auto& view : frame.cameras) {
-    if (view.name == "image_2" || view.name == "image_02") return &view;
-  }
-  return frame.cameras.empty() ? nullptr : &frame.cameras.front();
-}
 
 LabelledPoints labelledPoints(const Frame& frame, const Isometry3d& T_W_L, const semantics::Vocabulary& vocabulary) {
   const PointCloud& cloud = frame.points_L;
@@ -163,26 +77,6 @@ struct FrameTally {
   [[nodiscard]] std::size_t skipped() const { return without_labels + unreadable; }
 };
 
-Json confusionJson(const eval::SemanticScore& s) {
-  const eval::ConfusionMatrix& m = s.confusion;
-  Json rows = Json::array();
-  Json columns = Json::array();
-  for (const auto& c : s.classes) {
-    rows.push_back(c.name);
-    columns.push_back(c.name);
-  }
-  rows.push_back("other");
-  columns.push_back("none");
-  columns.push_back("missed");
-  Json counts = Json::array();
-  for (std::size_t r = 0; r < m.rows(); ++r) {
-    Json row = Json::array();
-    for (std::size_t c = 0; c < m.columns(); ++c) row.push_back(m.at(r, c));
-    counts.push_back(std::move(row));
-  }
-  return {{"rows", rows}, {"columns", columns}, {"counts", counts}};
-}
-
 Json scoreJson(const eval::SemanticScore& s) {
   Json iou = Json::object();
   Json classes = Json::array();
@@ -204,10 +98,6 @@ Json scoreJson(const eval::SemanticScore& s) {
           {"covered", s.covered},
           {"classes", classes},
           {"confusion", confusionJson(s)}};
-}
-
-std::string percent(bool defined, double fraction) {
-  return defined ? fmt::format("{:.2f} %", 100.0 * fraction) : std::string("-");
 }
 
 void printTable(const eval::SemanticScore& inside, const eval::SemanticScore& all) {
@@ -251,22 +141,13 @@ int runSemanticsEval(const SemanticsEvalFlags& flags) {
   if (!mesh) return fail(mesh.status());
 
   // The baseline: the run's segmenter again, each point labelled by its own frame's mask.
-  std::unique_ptr<semantics::QueryGrounder> grounder;
-  std::unique_ptr<semantics::Segmenter> segmenter;
-  std::vector<semantics::ClassId> prompts;
+  RunSegmenter baseline;
   if (flags.masks_alone) {
-    auto text = readJsonFile(run / "semantics.json", "");
-    if (!text) return fail(text.status());
-    auto choice = segmenterChoiceFromJson(text->dump(), (run / "semantics.json").string());
-    if (!choice) return fail(choice.status());
-    auto g = semantics::QueryGrounder::create(classes->vocabulary);
-    if (!g) return fail(g.status());
-    grounder = std::make_unique<semantics::QueryGrounder>(std::move(*g));
-    auto seg = makeSegmenter(*choice, classes->vocabulary, grounder.get(), flags.labels, nullptr);
-    if (!seg) return fail(seg.status());
-    segmenter = std::move(*seg);
-    for (const auto& c : classes->evaluated) prompts.push_back(c.id);
+    auto rebuilt = rebuildRunSegmenter(run, *classes, flags.labels);
+    if (!rebuilt) return fail(rebuilt.status());
+    baseline = std::move(*rebuilt);
   }
+  semantics::Segmenter* segmenter = baseline.segmenter.get();
 
   datasets::DatasetOptions options;
   options.frames = recording->frames;
@@ -335,14 +216,10 @@ int runSemanticsEval(const SemanticsEvalFlags& flags) {
           std::vector<eval::SemanticId> from_masks(points.truth.size(), eval::kNoSemanticClass);
           const CameraView* camera = frustumCamera(*frame);
           auto obs = camera != nullptr && camera->hasImage()
-                         ? segmenter->segment({frame->index, camera}, prompts)
+                         ? segmenter->segment({frame->index, camera}, baseline.prompts)
                          : Result<semantics::SemanticObservation>(notFound("no image"));
           if (obs && obs->observed) {
-            for (std::size_t k = 0; k < points.truth.size(); ++k) {
-              const semantics::Mask* m =
-                  points.in_frustum[k] != 0 ? obs->maskAt(points.pixel[k].x(), points.pixel[k].y()) : nullptr;
-              if (m != nullptr) from_masks[k] = m->class_id;
-            }
+            from_masks = classesFromMasks(*obs, points.pixel, points.in_frustum);
           } else {
             log::warn("frame {}: no masks for the baseline: {}", frame->index,
                       obs ? obs->note : obs.status().message());
@@ -423,15 +300,29 @@ void addEvalSemanticsCommand(CLI::App& eval, int& exit_code) {
       "sequence, for all points and for the points inside the camera image (image_2). Classes: the run's prompted "
       "ones; other labelled classes count as 'other', unlabelled points are ignored. The table prints IoU, mIoU and "
       "coverage (share of labelled points with a vertex within reach) in percent; --json writes them as fractions "
-      "0..1 (null where a class is absent from truth and prediction)");
+      "0..1 (null where a class is absent from truth and prediction). With --boxes instead of --labels, the truth "
+      "comes from KITTI 3-D boxes: every point of the run's frames in image_02 and within --box-max-range is its "
+      "box's class (Car/Van: car, Pedestrian: person, Cyclist: bicyclist), ignored in a 0.15 m shell around each box "
+      "and in its lowest 0.15 m, else 'not that class'; IoU, precision and recall per boxed class for the fused mesh "
+      "and the masks alone, with all tracks and with the moving tracks' points ignored");
   cmd->add_option("RUN", flags->run,
                   "Run folder of artemis run --query: mesh.ply (with class_id), semantics.json, trajectory.txt, "
                   "config.json")
       ->required();
-  cmd->add_option("--labels", flags->labels,
-                  "Labelled recording: a KITTI odometry root or sequences/NN folder with labels/*.label "
-                  "(SemanticKITTI, or artemis sim's output)")
-      ->required();
+  auto* labels = cmd->add_option("--labels", flags->labels,
+                                 "Labelled recording: a KITTI odometry root or sequences/NN folder with "
+                                 "labels/*.label (SemanticKITTI, or artemis sim's output)");
+  auto* boxes = cmd->add_option("--boxes", flags->boxes,
+                                "3-D box truth: a KITTI tracking label file (label_02/NNNN.txt), an object label "
+                                "file (NNNNNN.txt) or a folder of them; boxes in rectified camera-0 coordinates of "
+                                "the run's KITTI raw recording");
+  labels->excludes(boxes);
+  cmd->add_option("--box-frame-offset", flags->box_frame_offset,
+                  "--boxes: the boxes of label frame f are matched to recording frame f + K")
+      ->capture_default_str();
+  cmd->add_option("--box-max-range", flags->box_max_range_m, "--boxes: score no point farther than this (m)")
+      ->capture_default_str();
+  cmd->add_option("--dataset", flags->dataset, "--boxes: the recording (default: the run's)");
   cmd->add_option("--sequence", flags->sequence,
                   "Sequence NN to read when --labels is the root [default: the run's, else 00]");
   cmd->add_option("--max-distance", flags->max_distance_m, "A point farther than this from every vertex is missed (m)")
@@ -443,8 +334,16 @@ void addEvalSemanticsCommand(CLI::App& eval, int& exit_code) {
   cmd->add_option("--json", flags->json, "Also write the scores and confusion matrices to this JSON file");
   cmd->add_flag("--masks-alone", flags->masks_alone,
                 "Also score the per-frame masks without fusion: the run's segmenter (from semantics.json) is run "
-                "again and every in-frustum point takes the class of the mask it projects into in its own frame");
-  cmd->callback([flags, &exit_code] { exit_code = runSemanticsEval(*flags); });
+                "again and every in-frustum point takes the class of the mask it projects into in its own frame "
+                "(always done with --boxes)");
+  cmd->callback([flags, &exit_code] {
+    if (flags->labels.empty() == flags->boxes.empty()) {
+      log::error("eval semantics needs the truth: --labels DIR (SemanticKITTI) or --boxes LABELS (KITTI 3-D boxes)");
+      exit_code = 1;
+      return;
+    }
+    exit_code = flags->boxes.empty() ? runSemanticsEval(*flags) : runBoxesEval(*flags);
+  });
 }
 
 }  // namespace artemis::cli

@@ -67,6 +67,22 @@ Result<Isometry3d> readRt(const fs::path& path) {
   return T;
 }
 
+// T_R0_L = R_rect_00 * T_cam0_velo: the LiDAR into rectified camera 0, the frame of the image
+// projection matrices and of KITTI's 3-D box labels.
+Result<Isometry3d> readRectifiedFromLidar(const fs::path& date_dir) {
+  auto T_C0_L = readRt(date_dir / "calib_velo_to_cam.txt");
+  if (!T_C0_L) return T_C0_L.status();
+  const fs::path cam_path = date_dir / "calib_cam_to_cam.txt";
+  auto cam = CalibFile::read(cam_path);
+  if (!cam) return cam.status();
+  auto R_rect = cam->numbers("R_rect_00", 9);
+  if (!R_rect) return R_rect.status();
+  const Eigen::Matrix3d R = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(R_rect->data());
+  auto T_R0_C0 = isometryFromRt(R, Eigen::Vector3d::Zero());
+  if (!T_R0_C0) return parseError(fmt::format("{}: R_rect_00: {}", cam_path.string(), T_R0_C0.status().message()));
+  return Isometry3d(*T_R0_C0 * *T_C0_L);
+}
+
 class KittiRawDataset final : public Dataset {
  public:
   static Result<std::unique_ptr<Dataset>> open(const fs::path& path, const DatasetOptions& options) {
@@ -128,22 +144,17 @@ class KittiRawDataset final : public Dataset {
     // Calibration.
     auto T_L_IMU = readRt(date_dir / "calib_imu_to_velo.txt");
     if (!T_L_IMU) return T_L_IMU.status();
-    auto T_C0_L = readRt(date_dir / "calib_velo_to_cam.txt");
-    if (!T_C0_L) return T_C0_L.status();
+    auto T_R0_L = readRectifiedFromLidar(date_dir);
+    if (!T_R0_L) return T_R0_L.status();
     const fs::path cam_path = date_dir / "calib_cam_to_cam.txt";
     auto cam = CalibFile::read(cam_path);
     if (!cam) return cam.status();
-    auto R_rect = cam->numbers("R_rect_00", 9);
-    if (!R_rect) return R_rect.status();
     auto P_rect = cam->numbers("P_rect_02", 12);
     if (!P_rect) return P_rect.status();
     auto size = cam->numbers("S_rect_02", 2);
     if (!size) return size.status();
-    const Eigen::Matrix3d R = Eigen::Map<const Eigen::Matrix<double, 3, 3, Eigen::RowMajor>>(R_rect->data());
-    auto T_R0_C0 = isometryFromRt(R, Eigen::Vector3d::Zero());
-    if (!T_R0_C0) return parseError(fmt::format("{}: R_rect_00: {}", cam_path.string(), T_R0_C0.status().message()));
-    auto view = cameraFromProjection("image_02", *P_rect, *T_R0_C0 * *T_C0_L, static_cast<int>((*size)[0]),
-                                     static_cast<int>((*size)[1]));
+    auto view =
+        cameraFromProjection("image_02", *P_rect, *T_R0_L, static_cast<int>((*size)[0]), static_cast<int>((*size)[1]));
     if (!view) return parseError(fmt::format("{}: {}", cam_path.string(), view.status().message()));
     camera_ = std::move(view.value());
 
@@ -169,6 +180,12 @@ class KittiRawDataset final : public Dataset {
 
 bool looksLikeKittiRaw(const fs::path& path) {
   return findDriveDir(path).isOk();
+}
+
+Result<Isometry3d> readKittiRawRectifiedFromLidar(const fs::path& path) {
+  auto drive = findDriveDir(path);
+  if (!drive) return drive.status();
+  return readRectifiedFromLidar(drive->parent_path());
 }
 
 Result<std::unique_ptr<Dataset>> openKittiRaw(const fs::path& path, const DatasetOptions& options) {

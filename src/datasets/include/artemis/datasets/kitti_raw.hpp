@@ -13,6 +13,10 @@ namespace artemis::datasets {
 // `path` is the drive folder (…_sync), its date folder, or the folder above (holding one date).
 Result<std::unique_ptr<Dataset>> openKittiRaw(const std::filesystem::path& path, const DatasetOptions& options);
 
+// T_R0_L = R_rect_00 * T_cam0_velo of the recording at `path` (any folder openKittiRaw accepts):
+// LiDAR points into rectified camera-0 coordinates, the frame of KITTI's 3-D box labels.
+Result<Isometry3d> readKittiRawRectifiedFromLidar(const std::filesystem::path& path);
+
 // True when `path` looks like one of the folders openKittiRaw accepts.
 bool looksLikeKittiRaw(const std::filesystem::path& path);
 

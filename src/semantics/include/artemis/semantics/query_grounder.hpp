@@ -131,7 +131,7 @@ class QueryGrounder {
   [[nodiscard]] bool usesWordNet() const;
   [[nodiscard]] const Vocabulary& vocabulary() const;
 
-  struct Tables;  // defined in query_grounder.cpp
+  struct Tables;  // defined in grounder_tables.hpp (internal)
 
  private:
   explicit QueryGrounder(std::shared_ptr<const Tables> tables) : tables_(std::move(tables)) {}
