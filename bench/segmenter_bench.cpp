@@ -4,8 +4,14 @@
 // unless --threads N; --width W also times the image scaled to W (aspect kept). Prints the model's
 // load time and per-frame median and p95 of the whole segment() (forward pass, softmax, classes)
 // for the prompt "car", and peak memory.
+//
+// Then what dense semantics cost the mapping pipeline itself, without the network's CPU load: the
+// network's observations of frames 0-49 are computed first, and artemis run's pipeline (reference
+// poses, texture on) maps the frames twice without semantics and twice with those observations
+// replayed, alternately; per-stage median / p95 of each run. --no-pipeline skips this part.
 #include <fmt/format.h>
 #include <sys/resource.h>
+#include <unistd.h>
 
 #include <cstdlib>
 #include <filesystem>
@@ -13,7 +19,11 @@
 #include <vector>
 
 #include "artemis/core/timer.hpp"
+#include "artemis/datasets/dataset.hpp"
+#include "artemis/datasets/pose_file.hpp"
 #include "artemis/io/png.hpp"
+#include "artemis/pipeline/run.hpp"
+#include "artemis/semantics/active_brush.hpp"
 #include "artemis/semantics/dnn_segmenter.hpp"
 #include "bench_stats.hpp"
 
@@ -69,14 +79,88 @@ int timeAtWidth(const fs::path& model, const fs::path& images, int threads, int 
   return 0;
 }
 
+// A segmenter that hands out observations computed before (by frame index).
+class Replay final : public semantics::Segmenter {
+ public:
+  explicit Replay(std::vector<semantics::SemanticObservation> observations) : observations_(std::move(observations)) {}
+  [[nodiscard]] std::string name() const override { return "replay"; }
+  Result<semantics::SemanticObservation> segment(const semantics::SegmentRequest& request,
+                                                 std::span<const semantics::ClassId> /*prompts*/) override {
+    if (request.frame_index >= observations_.size()) return notFound("no observation kept");
+    return observations_[request.frame_index];
+  }
+
+ private:
+  std::vector<semantics::SemanticObservation> observations_;
+};
+
+int pipelineCost(const fs::path& data, const fs::path& model, int threads) {
+  const semantics::Vocabulary& vocabulary = semantics::Vocabulary::semanticKitti();
+  auto config =
+      semantics::DenseModelConfig::load(fs::path(ARTEMIS_SOURCE_DIR) / "data/models/enet-cityscapes.json", vocabulary);
+  auto segmenter = config ? semantics::DnnSegmenter::open(model, *config, threads)
+                          : Result<std::unique_ptr<semantics::DnnSegmenter>>(config.status());
+  const fs::path raw = data / "kitti_raw";
+  datasets::DatasetOptions options;
+  options.frames = {0, 50};
+  auto dataset = datasets::openDataset(raw, datasets::DatasetFormat::kAuto, options);
+  auto poses = datasets::readPoseFile(raw / "reference_poses.txt");
+  if (!segmenter || !dataset || !poses || !(*dataset)->setPoses(*poses).isOk()) {
+    fmt::print(stderr, "pipeline cost: cannot set up the model, the drive or its poses\n");
+    return 1;
+  }
+  const semantics::ClassId car = vocabulary.findByName("car")->id;
+  const std::vector<semantics::ClassId> prompts{car};
+  std::vector<semantics::SemanticObservation> observations;
+  for (std::size_t i = 0; i < (*dataset)->size(); ++i) {
+    auto frame = (*dataset)->frame(i);
+    if (!frame || frame->cameras.empty()) return 1;
+    auto obs = (*segmenter)->segment({frame->index, &frame->cameras.front()}, prompts);
+    if (!obs) return 1;
+    observations.push_back(std::move(*obs));
+  }
+  Replay replay(std::move(observations));
+  const fs::path out = fs::temp_directory_path() / fmt::format("artemis-segmenter-bench-{}", ::getpid());
+  for (int round = 0; round < 4; ++round) {
+    const bool semantic = round % 2 == 1;
+    semantics::ActiveBrush brush;
+    brush.add("cars", prompts);
+    pipeline::RunParams params;
+    params.mapper.threads = threads;
+    params.pose_refinement = false;
+    if (semantic) {
+      params.semantics.segmenter = &replay;
+      params.semantics.brush = &brush;
+      params.semantics.vocabulary = &vocabulary;
+    }
+    auto report = pipeline::runPipeline(**dataset, params, out, "{}\n");
+    if (!report) {
+      fmt::print(stderr, "{}\n", report.status().toString());
+      return 1;
+    }
+    std::string line;
+    for (const char* stage : {"insert", "fuse", "mesh", "constrain", "refine", "total"}) {
+      if (report->times.samples(stage).empty()) continue;
+      const auto t = report->times.summary(stage);
+      line += fmt::format("  {} {:.1f} / {:.1f}", stage, t.median_ms, t.p95_ms);
+    }
+    fmt::print("pipeline {} (median / p95 ms):{}\n", semantic ? "with dense semantics" : "without semantics   ", line);
+  }
+  std::error_code ec;
+  fs::remove_all(out, ec);
+  return 0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   int threads = 2;
   int width = 0;
   int frames = 20;
+  bool pipeline_cost = true;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
+    if (arg == "--no-pipeline") pipeline_cost = false;
     if (arg == "--threads" && i + 1 < argc) threads = std::atoi(argv[++i]);
     if (arg == "--width" && i + 1 < argc) width = std::atoi(argv[++i]);
     if (arg == "--frames" && i + 1 < argc) frames = std::atoi(argv[++i]);
@@ -92,6 +176,9 @@ int main(int argc, char** argv) {
   if (int rc = timeAtWidth(model, images, threads, 0, frames); rc != 0) return rc;
   if (width > 0) {
     if (int rc = timeAtWidth(model, images, threads, width, frames); rc != 0) return rc;
+  }
+  if (pipeline_cost) {
+    if (int rc = pipelineCost(envDir("ARTEMIS_DATA_DIR", "../shared/data"), model, threads); rc != 0) return rc;
   }
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);

@@ -143,25 +143,23 @@ int runBoxesEval(const SemanticsEvalFlags& flags) {
   if (!(flags.box_max_range_m > 0.0)) {
     return fail(invalidArgument(fmt::format("--box-max-range must be > 0 m, got {}", flags.box_max_range_m)));
   }
-  auto classes = readRunClasses(run / "semantics.json");
-  if (!classes) return fail(classes.status());
-  auto recording = readRunRecording(run / "config.json");
-  if (!recording) return fail(recording.status());
-  auto trajectory = datasets::readPoseFile(run / "trajectory.txt");
-  if (!trajectory) return fail(trajectory.status());
+  auto scored = readScoredRun(run);
+  if (!scored) return fail(scored.status());
+  const RunClasses& classes = scored->classes;
+  const RunRecording& recording = scored->recording;
+  const std::vector<Isometry3d>& trajectory = scored->trajectory;
+  MeshClasses& mesh = scored->mesh;
   const fs::path mesh_path = run / "mesh.ply";
-  auto mesh = readMeshClasses(mesh_path);
-  if (!mesh) return fail(mesh.status());
   auto labels = datasets::readKittiBoxes(flags.boxes);
   if (!labels) return fail(labels.status());
 
   datasets::DatasetOptions options;
-  options.frames = recording->frames;
+  options.frames = recording.frames;
   options.min_range_m = flags.min_range_m;
   options.max_range_m = flags.max_range_m;
-  options.vertical_angle_correction = recording->vertical_correction;
+  options.vertical_angle_correction = recording.vertical_correction;
   options.load_images = true;  // the masks-alone baseline segments the images
-  const std::string dataset_path = flags.dataset.empty() ? recording->path : flags.dataset;
+  const std::string dataset_path = flags.dataset.empty() ? recording.path : flags.dataset;
   auto dataset = datasets::openDataset(dataset_path, datasets::DatasetFormat::kAuto, options);
   if (!dataset) return fail(dataset.status());
   const datasets::Dataset& d = **dataset;
@@ -174,10 +172,10 @@ int runBoxesEval(const SemanticsEvalFlags& flags) {
   if (!T_R0_L) return fail(T_R0_L.status());
   const Isometry3d T_L_R0 = T_R0_L->inverse();
   const std::string frames = fmt::format("{}:{}", d.firstIndex(), d.firstIndex() + d.size());
-  if (trajectory->size() != d.size()) {
+  if (trajectory.size() != d.size()) {
     return fail(
         invalidArgument(fmt::format("{}: {} poses for the {} frames {} of {}", (run / "trajectory.txt").string(),
-                                    trajectory->size(), d.size(), frames, d.root().string())));
+                                    trajectory.size(), d.size(), frames, d.root().string())));
   }
 
   // The label boxes of each frame of the run in its LiDAR frame, and the tracks in the world.
@@ -187,7 +185,7 @@ int runBoxesEval(const SemanticsEvalFlags& flags) {
     const auto i = static_cast<std::size_t>(r) - d.firstIndex();
     return i < d.size() ? std::optional(i) : std::nullopt;
   };
-  auto placed = placeRunBoxes(*labels, *classes, T_L_R0, *trajectory, runFrameOf);
+  auto placed = placeRunBoxes(*labels, classes, T_L_R0, trajectory, runFrameOf);
   if (!placed) return fail(Status(placed.status().code(), flags.boxes + ": " + placed.status().message()));
   for (const auto& name : placed->unprompted) {
     log::info("{}: boxes of class '{}', which the run did not prompt: their points count as not a scored class",
@@ -200,7 +198,7 @@ int runBoxesEval(const SemanticsEvalFlags& flags) {
     return f >= 0 && std::binary_search(labels->frames.begin(), labels->frames.end(), static_cast<std::size_t>(f));
   };
 
-  auto baseline = rebuildRunSegmenter(run, *classes, d.root());
+  auto baseline = rebuildRunSegmenter(run, classes, d.root());
   if (!baseline) return fail(baseline.status());
 
   const eval::BoxTruthParams params;
@@ -221,8 +219,8 @@ int runBoxesEval(const SemanticsEvalFlags& flags) {
   log::info("settings: {}", settings.dump());
 
   Stopwatch clock;
-  const std::size_t mesh_vertices = mesh->vertices.size();
-  const eval::VertexClassIndex index(std::move(mesh->vertices), std::move(mesh->classes), flags.max_distance_m);
+  const std::size_t mesh_vertices = mesh.vertices.size();
+  const eval::VertexClassIndex index(std::move(mesh.vertices), std::move(mesh.classes), flags.max_distance_m);
   BoxScores all(evaluated);
   BoxScores static_only(evaluated);
   std::size_t scored_frames = 0, frames_without_boxes = 0, frames_unreadable = 0, frames_without_masks = 0;
@@ -242,7 +240,7 @@ int runBoxesEval(const SemanticsEvalFlags& flags) {
         ++frames_unreadable;
         return;
       }
-      const ScoredPoints points = scoredPoints(*frame, *camera, (*trajectory)[i], flags.box_max_range_m);
+      const ScoredPoints points = scoredPoints(*frame, *camera, trajectory[i], flags.box_max_range_m);
       const FrameBoxes& fb = placed->frames[i];
       auto truth_all = eval::boxTruth(points.points_L, fb.all, params);
       auto truth_static = eval::boxTruth(points.points_L, fb.static_only, params);

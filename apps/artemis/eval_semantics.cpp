@@ -130,34 +130,30 @@ int runSemanticsEval(const SemanticsEvalFlags& flags) {
   if (!(flags.max_distance_m > 0.0)) {
     return fail(invalidArgument(fmt::format("--max-distance must be > 0 m, got {}", flags.max_distance_m)));
   }
-  auto classes = readRunClasses(run / "semantics.json");
-  if (!classes) return fail(classes.status());
-  auto recording = readRunRecording(run / "config.json");
-  if (!recording) return fail(recording.status());
-  auto trajectory = datasets::readPoseFile(run / "trajectory.txt");
-  if (!trajectory) return fail(trajectory.status());
+  auto scored = readScoredRun(run);
+  if (!scored) return fail(scored.status());
+  const RunClasses& classes = scored->classes;
+  const RunRecording& recording = scored->recording;
+  const std::vector<Isometry3d>& trajectory = scored->trajectory;
+  MeshClasses& mesh = scored->mesh;
   const fs::path mesh_path = run / "mesh.ply";
-  auto mesh = readMeshClasses(mesh_path);
-  if (!mesh) return fail(mesh.status());
 
   // The baseline: the run's segmenter again, each point labelled by its own frame's mask.
   RunSegmenter baseline;
   if (flags.masks_alone) {
-    auto rebuilt = rebuildRunSegmenter(run, *classes, flags.labels);
+    auto rebuilt = rebuildRunSegmenter(run, classes, flags.labels);
     if (!rebuilt) return fail(rebuilt.status());
     baseline = std::move(*rebuilt);
   }
   semantics::Segmenter* segmenter = baseline.segmenter.get();
 
   datasets::DatasetOptions options;
-  options.frames = recording->frames;
+  options.frames = recording.frames;
   options.min_range_m = flags.min_range_m;
   options.max_range_m = flags.max_range_m;
-  options.vertical_angle_correction = recording->vertical_correction;
+  options.vertical_angle_correction = recording.vertical_correction;
   options.load_images = flags.masks_alone;
-  options.sequence = !flags.sequence.empty()        ? flags.sequence
-                     : !recording->sequence.empty() ? recording->sequence
-                                                    : "00";
+  options.sequence = !flags.sequence.empty() ? flags.sequence : !recording.sequence.empty() ? recording.sequence : "00";
   auto dataset = datasets::openDataset(flags.labels, datasets::DatasetFormat::kAuto, options);
   if (!dataset) return fail(dataset.status());
   const datasets::Dataset& d = **dataset;
@@ -168,10 +164,10 @@ int runSemanticsEval(const SemanticsEvalFlags& flags) {
         labels_dir.string())));
   }
   const std::string frames = fmt::format("{}:{}", d.firstIndex(), d.firstIndex() + d.size());
-  if (trajectory->size() != d.size()) {
+  if (trajectory.size() != d.size()) {
     return fail(
         invalidArgument(fmt::format("{}: {} poses for the {} frames {} of {}", (run / "trajectory.txt").string(),
-                                    trajectory->size(), d.size(), frames, d.root().string())));
+                                    trajectory.size(), d.size(), frames, d.root().string())));
   }
   if (d.cameras().empty()) log::warn("{}: no camera; the in-frustum figures stay empty", d.root().string());
 
@@ -185,12 +181,12 @@ int runSemanticsEval(const SemanticsEvalFlags& flags) {
   log::info("settings: {}", settings.dump());
 
   Stopwatch clock;
-  const std::size_t mesh_vertices = mesh->vertices.size();
-  const eval::VertexClassIndex index(std::move(mesh->vertices), std::move(mesh->classes), flags.max_distance_m);
+  const std::size_t mesh_vertices = mesh.vertices.size();
+  const eval::VertexClassIndex index(std::move(mesh.vertices), std::move(mesh.classes), flags.max_distance_m);
   log::debug("{}: KD-tree over {} vertices in {:.2f} s", mesh_path.string(), index.size(), clock.elapsedS());
 
-  eval::SemanticAccumulator accumulator(classes->evaluated);
-  eval::SemanticAccumulator masks_alone(classes->evaluated);
+  eval::SemanticAccumulator accumulator(classes.evaluated);
+  eval::SemanticAccumulator masks_alone(classes.evaluated);
   std::size_t frames_without_masks = 0;
   FrameTally tally;
   double lookup_s = 0.0;
@@ -206,7 +202,7 @@ int runSemanticsEval(const SemanticsEvalFlags& flags) {
                   (labels_dir / fs::path(frame->scan_path).filename().replace_extension(".label")).string());
         ++tally.without_labels;
       } else {
-        const LabelledPoints points = labelledPoints(*frame, (*trajectory)[i], classes->vocabulary);
+        const LabelledPoints points = labelledPoints(*frame, trajectory[i], classes.vocabulary);
         Stopwatch lookup;
         const auto predicted = index.classify(points.points_W);
         lookup_s += lookup.elapsedS();
@@ -270,7 +266,7 @@ int runSemanticsEval(const SemanticsEvalFlags& flags) {
     Json j;
     j["settings"] = settings;
     j["classes"] = Json::array();
-    for (const auto& c : classes->evaluated) j["classes"].push_back({{"id", c.id}, {"name", c.name}});
+    for (const auto& c : classes.evaluated) j["classes"].push_back({{"id", c.id}, {"name", c.name}});
     j["in_frustum"] = scoreJson(inside);
     j["all"] = scoreJson(all);
     if (segmenter)

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 
+#include "artemis/datasets/pose_file.hpp"
 #include "artemis/io/ply.hpp"
 #include "run_folder.hpp"
 #include "segmenter_setup.hpp"
@@ -69,6 +70,18 @@ Result<MeshClasses> readMeshClasses(const fs::path& path) {
     mesh.classes[i] = static_cast<eval::SemanticId>(id);
   }
   return mesh;
+}
+
+Result<ScoredRun> readScoredRun(const fs::path& run) {
+  auto classes = readRunClasses(run / "semantics.json");
+  if (!classes) return classes.status();
+  auto recording = readRunRecording(run / "config.json");
+  if (!recording) return recording.status();
+  auto trajectory = datasets::readPoseFile(run / "trajectory.txt");
+  if (!trajectory) return trajectory.status();
+  auto mesh = readMeshClasses(run / "mesh.ply");
+  if (!mesh) return mesh.status();
+  return ScoredRun{std::move(*classes), std::move(*recording), std::move(*trajectory), std::move(*mesh)};
 }
 
 Result<RunSegmenter> rebuildRunSegmenter(const fs::path& run, const RunClasses& classes, const fs::path& dataset_root) {

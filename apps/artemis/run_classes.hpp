@@ -12,10 +12,12 @@
 
 #include "artemis/core/frame.hpp"
 #include "artemis/core/status.hpp"
+#include "artemis/core/transform.hpp"
 #include "artemis/eval/semantics.hpp"
 #include "artemis/semantics/query_grounder.hpp"
 #include "artemis/semantics/segmenter.hpp"
 #include "artemis/semantics/vocabulary.hpp"
+#include "run_folder.hpp"
 
 namespace artemis::cli {
 
@@ -31,6 +33,16 @@ struct MeshClasses {
   std::vector<eval::SemanticId> classes;
 };
 Result<MeshClasses> readMeshClasses(const std::filesystem::path& mesh_ply);
+
+// What both semantic evaluators read from a run folder: its classes, the recording it read, its
+// trajectory and its class mesh. An error names the file.
+struct ScoredRun {
+  RunClasses classes;
+  RunRecording recording;
+  std::vector<Isometry3d> trajectory;
+  MeshClasses mesh;
+};
+Result<ScoredRun> readScoredRun(const std::filesystem::path& run);
 
 // The run's segmenter again (from semantics.json), prompted with `prompts`, for a recording in
 // `dataset_root`.
