@@ -7,7 +7,7 @@
 //
 // Then what dense semantics cost the mapping pipeline itself, without the network's CPU load: the
 // network's observations of frames 0-49 are computed first, and artemis run's pipeline (reference
-// poses, texture on) maps the frames twice without semantics and twice with those observations
+// poses, texture on, as artemis run) maps the frames twice without semantics and twice with those observations
 // replayed, alternately; per-stage median / p95 of each run. --no-pipeline skips this part.
 #include <fmt/format.h>
 #include <sys/resource.h>
@@ -128,6 +128,7 @@ int pipelineCost(const fs::path& data, const fs::path& model, int threads) {
     pipeline::RunParams params;
     params.mapper.threads = threads;
     params.pose_refinement = false;
+    params.texture = true;  // as artemis run does on a recording with a camera
     if (semantic) {
       params.semantics.segmenter = &replay;
       params.semantics.brush = &brush;
@@ -139,7 +140,7 @@ int pipelineCost(const fs::path& data, const fs::path& model, int threads) {
       return 1;
     }
     std::string line;
-    for (const char* stage : {"insert", "fuse", "mesh", "constrain", "refine", "total"}) {
+    for (const char* stage : {"insert", "fuse", "mesh", "constrain", "refine", "revisit", "total"}) {
       if (report->times.samples(stage).empty()) continue;
       const auto t = report->times.summary(stage);
       line += fmt::format("  {} {:.1f} / {:.1f}", stage, t.median_ms, t.p95_ms);
