@@ -98,8 +98,10 @@ FrameStats Mapper::integrate(const PointCloud& points_L, const Isometry3d& T_W_L
   stats.insert_ms = clock.elapsedMs();
 
   if (fuse) {
-    const FusionStats f =
-        fusion_.fuse(points_L, map_, T_W_L, *semantic->view, *semantic->observation, mesh_, semantic->vocabulary);
+    FusionStats f;
+    arena_->arena.execute([&] {
+      f = fusion_.fuse(points_L, map_, T_W_L, *semantic->view, *semantic->observation, mesh_, semantic->vocabulary);
+    });
     stats.fuse_ms = f.ms;
     stats.semantic_observations = f.observations;
   }
@@ -125,7 +127,11 @@ FrameStats Mapper::integrate(const PointCloud& points_L, const Isometry3d& T_W_L
 
 FusionStats Mapper::fuseLate(const PointCloud& points_L, const Isometry3d& T_W_L, const SemanticInput& semantic) {
   if (semantic.view == nullptr || semantic.observation == nullptr) return {};
-  return fusion_.fuseLate(points_L, map_, T_W_L, *semantic.view, *semantic.observation, mesh_, semantic.vocabulary);
+  FusionStats f;
+  arena_->arena.execute([&] {
+    f = fusion_.fuseLate(points_L, map_, T_W_L, *semantic.view, *semantic.observation, mesh_, semantic.vocabulary);
+  });
+  return f;
 }
 
 RefinementStats Mapper::refine(const RefinementInput& input, const Isometry3d& T_W_L) {

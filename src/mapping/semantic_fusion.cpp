@@ -1,5 +1,8 @@
 #include "artemis/mapping/semantic_fusion.hpp"
 
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
 #include <algorithm>
 #include <cmath>
 #include <limits>
@@ -54,21 +57,32 @@ FusionStats SemanticFusion::fuseDense(const VertexOf& vertex_of, const PointClou
   const Eigen::Matrix3f R_W_L = T_W_L.linear().cast<float>();
   const Eigen::Vector3f t_W_L = T_W_L.translation().cast<float>();
   const auto inv_sigma_d = static_cast<float>(1.0 / params_.sigma_depth_m);
-  std::vector<float> p(evidence.slots());
-  std::vector<float> scratch(2 * evidence.channels());
-  // In scan order, as fuse(): points sharing a cell add up in a fixed order.
-  for (const DepthProjection::Point& q : projected_.points) {
-    const std::uint32_t vertex = vertex_of(q.index);
-    if (vertex == VoxelMap::kNoVertex) continue;
-    const Eigen::Vector3f p_W = R_W_L * points_L.points[q.index] + t_W_L;
-    const int u = static_cast<int>(q.pixel % static_cast<std::uint32_t>(w));
-    const int v = static_cast<int>(q.pixel / static_cast<std::uint32_t>(w));
-    // Height only: a vertex's normal is the sensor direction until its voxel is meshed.
-    const float sigma_mask = evidence.read(u, v, ground.heightAbove(p_W), nullptr, p.data(), scratch.data());
-    const float cos_view = std::abs((p_W - camera_W).normalized().dot(mesh.normals()[vertex]));
-    const float omega = sigma_mask * cos_view * std::exp(-depthGap(q, w, h) * inv_sigma_d);  // eq. 1
-    if (!(omega > 0.0f)) continue;
-    mesh.observeDistribution(vertex, p.data(), omega);
+  // Each point's vertex, weight and distribution in parallel; then added in scan order, as fuse()
+  // does, so that points sharing a cell add up in a fixed order whatever the thread count.
+  const std::size_t n = projected_.points.size();
+  const std::size_t slots = evidence.slots();
+  std::vector<std::uint32_t> vertex(n, VoxelMap::kNoVertex);
+  std::vector<float> omega(n, 0.0f);
+  std::vector<float> distribution(n * slots);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, n, 1024), [&](const tbb::blocked_range<std::size_t>& range) {
+    std::vector<float> scratch(2 * evidence.channels());
+    for (std::size_t k = range.begin(); k < range.end(); ++k) {
+      const DepthProjection::Point& q = projected_.points[k];
+      vertex[k] = vertex_of(q.index);
+      if (vertex[k] == VoxelMap::kNoVertex) continue;
+      const Eigen::Vector3f p_W = R_W_L * points_L.points[q.index] + t_W_L;
+      const int u = static_cast<int>(q.pixel % static_cast<std::uint32_t>(w));
+      const int v = static_cast<int>(q.pixel / static_cast<std::uint32_t>(w));
+      // Height only: a vertex's normal is the sensor direction until its voxel is meshed.
+      const float sigma_mask =
+          evidence.read(u, v, ground.heightAbove(p_W), nullptr, &distribution[k * slots], scratch.data());
+      const float cos_view = std::abs((p_W - camera_W).normalized().dot(mesh.normals()[vertex[k]]));
+      omega[k] = sigma_mask * cos_view * std::exp(-depthGap(q, w, h) * inv_sigma_d);  // eq. 1
+    }
+  });
+  for (std::size_t k = 0; k < n; ++k) {
+    if (vertex[k] == VoxelMap::kNoVertex || !(omega[k] > 0.0f)) continue;
+    mesh.observeDistribution(vertex[k], &distribution[k * slots], omega[k]);
     ++stats.observations;
   }
   stats.ms = clock.elapsedMs();

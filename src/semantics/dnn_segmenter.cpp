@@ -234,6 +234,7 @@ Result<SemanticObservation> DnnSegmenter::segment(const SegmentRequest& request,
   dense.classes.insert(dense.classes.end(), prompted.begin(), prompted.end());
   const std::size_t channels = dense.classes.size();
   dense.values.resize(static_cast<std::size_t>(dense.width) * static_cast<std::size_t>(dense.height) * channels);
+  dense.top.resize(static_cast<std::size_t>(dense.width) * static_cast<std::size_t>(dense.height));
   const std::size_t labels = impl_->config.labels.size();
   cv::parallel_for_(cv::Range(0, dense.height), [&](const cv::Range& rows) {
     std::vector<float> label_p(labels);
@@ -243,9 +244,13 @@ Result<SemanticObservation> DnnSegmenter::segment(const SegmentRequest& request,
       for (int u = 0; u < dense.width; ++u, dst += channels) {
         impl_->probabilities(out, g, u, v, label_p.data());
         gather.apply(label_p.data(), channel_p.data());
+        std::size_t best = 0;
         for (std::size_t c = 0; c < channels; ++c) {
           dst[c] = static_cast<std::uint8_t>(std::lround(std::clamp(channel_p[c], 0.0f, 1.0f) * 255.0f));
+          if (dst[c] > dst[best]) best = c;  // ties go to the lower channel, as argmax() does
         }
+        dense.top[static_cast<std::size_t>(v) * static_cast<std::size_t>(dense.width) + static_cast<std::size_t>(u)] =
+            static_cast<std::uint8_t>(best);
       }
     }
   });

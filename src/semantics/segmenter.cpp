@@ -9,6 +9,9 @@ namespace artemis::semantics {
 
 ClassId DenseProbabilities::argmax(int u, int v) const {
   if (!contains(u, v)) return kNoClass;
+  if (!top.empty()) {
+    return classes[top[static_cast<std::size_t>(v) * static_cast<std::size_t>(width) + static_cast<std::size_t>(u)]];
+  }
   const std::uint8_t* p = at(u, v);
   std::size_t best = 0;
   for (std::size_t c = 1; c < classes.size(); ++c) {
@@ -28,6 +31,13 @@ Status validateDense(const DenseProbabilities& dense, std::span<const ClassId> p
       static_cast<std::size_t>(dense.width) * static_cast<std::size_t>(dense.height) * dense.classes.size()) {
     return invalidArgument(fmt::format("dense probabilities hold {} values, not {}x{}x{}", dense.values.size(),
                                        dense.width, dense.height, dense.classes.size()));
+  }
+  const std::size_t pixels = static_cast<std::size_t>(dense.width) * static_cast<std::size_t>(dense.height);
+  if (!dense.top.empty() &&
+      (dense.top.size() != pixels || *std::max_element(dense.top.begin(), dense.top.end()) >= dense.classes.size())) {
+    return invalidArgument(fmt::format("dense probabilities' top channels: {} values of up to {}, not {} below {}",
+                                       dense.top.size(), int{*std::max_element(dense.top.begin(), dense.top.end())},
+                                       pixels, dense.classes.size()));
   }
   for (std::size_t c = 1; c < dense.classes.size(); ++c) {
     if (std::find(prompts.begin(), prompts.end(), dense.classes[c]) == prompts.end()) {

@@ -36,6 +36,9 @@ struct DenseProbabilities {
   int height = 0;
   std::vector<ClassId> classes;      // channel -> class; classes[0] == kNoClass
   std::vector<std::uint8_t> values;  // pixel-major: (v * width + u) * channels() + c, probability * 255
+  // The most probable channel of each pixel, row-major, where the segmenter filled it (empty:
+  // argmax() works it out from `values`): refinement asks it of 9 pixels per vertex.
+  std::vector<std::uint8_t> top;
 
   [[nodiscard]] bool empty() const { return values.empty(); }
   [[nodiscard]] std::size_t channels() const { return classes.size(); }
