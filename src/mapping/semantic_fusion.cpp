@@ -119,8 +119,6 @@ FusionStats SemanticFusion::fuseWith(const VertexOf& vertex_of, const PointCloud
   const int h = observation.mask_ids.height();
   // Each point's pixel and depth, and the nearest LiDAR depth per pixel.
   projectDepth(points_L, view, w, h, projected_);
-  const std::vector<float>& depth = projected_.nearest.data();
-  constexpr float kFar = std::numeric_limits<float>::infinity();
   stats.points_in_image = projected_.points.size();
 
   // Slot of each mask's class, and of the background.
@@ -135,7 +133,6 @@ FusionStats SemanticFusion::fuseWith(const VertexOf& vertex_of, const PointCloud
   const Eigen::Vector3f camera_W = T_W_C.translation().cast<float>();
   const Eigen::Matrix3f R_W_L = T_W_L.linear().cast<float>();
   const Eigen::Vector3f t_W_L = T_W_L.translation().cast<float>();
-  const int r = params_.depth_window_px;
   const auto inv_sigma_d = static_cast<float>(1.0 / params_.sigma_depth_m);
   const auto background = static_cast<float>(params_.background_score);
   // In scan order, one point after the other: points sharing a cell add up in a fixed order.
@@ -144,12 +141,7 @@ FusionStats SemanticFusion::fuseWith(const VertexOf& vertex_of, const PointCloud
     if (vertex == VoxelMap::kNoVertex) continue;  // a point the map refused
     const int u = static_cast<int>(q.pixel % static_cast<std::uint32_t>(w));
     const int v = static_cast<int>(q.pixel / static_cast<std::uint32_t>(w));
-    float nearest = kFar;
-    for (int y = std::max(0, v - r); y <= std::min(h - 1, v + r); ++y) {
-      const float* row = &depth[static_cast<std::size_t>(y) * static_cast<std::size_t>(w)];
-      for (int x = std::max(0, u - r); x <= std::min(w - 1, u + r); ++x) nearest = std::min(nearest, row[x]);
-    }
-    const float d_depth = q.depth - nearest;  // >= 0: the point itself is in the window
+    const float d_depth = depthGap(q, w, h);
     const std::uint16_t id = observation.mask_ids.at(u, v);
     const float score = id == 0 ? background : observation.masks[id - 1].score;
     const Eigen::Vector3f p_W = R_W_L * points_L.points[q.index] + t_W_L;
