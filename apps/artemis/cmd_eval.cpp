@@ -267,10 +267,11 @@ int runTrajectoryEval(const TrajectoryEvalFlags& flags) {
 
 void addEvalSemanticsCommand(CLI::App& eval, int& exit_code);  // eval_semantics.cpp
 void addEvalTextureCommand(CLI::App& eval, int& exit_code);    // eval_texture.cpp
+void addEvalRaysCommand(CLI::App& eval, int& exit_code);       // eval_rays.cpp
 
 void addEvalCommands(CLI::App& app, int& exit_code) {
-  auto* eval =
-      app.add_subcommand("eval", "Score results against references (geometry, trajectory, semantics, texture)");
+  auto* eval = app.add_subcommand(
+      "eval", "Score results against references (geometry, trajectory, semantics, texture, ray consistency)");
   eval->require_subcommand(1);
 
   auto flags = std::make_shared<MeshEvalFlags>();
@@ -316,6 +317,7 @@ void addEvalCommands(CLI::App& app, int& exit_code) {
 
   addEvalSemanticsCommand(*eval, exit_code);
   addEvalTextureCommand(*eval, exit_code);
+  addEvalRaysCommand(*eval, exit_code);
 }
 
 }  // namespace artemis::cli

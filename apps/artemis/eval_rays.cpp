@@ -1,0 +1,266 @@
+// artemis eval rays: ray consistency of a run's mesh with the scans it was built from (DESIGN.md,
+// "How results are measured"). Every N-th frame of the run, an even subsample of its range-gated
+// returns is cast from the frame's sensor origin (the run's own pose, trajectory.txt) into
+// mesh.ply: surface, blocked or hole (eval/ray_consistency.hpp). The recording is the one the run
+// read (config.json), with its frame range and vertical-angle correction.
+#include <fmt/format.h>
+#include <CLI/CLI.hpp>
+
+#include <filesystem>
+#include <memory>
+#include <nlohmann/json.hpp>
+
+#include "artemis/core/log.hpp"
+#include "artemis/core/timer.hpp"
+#include "artemis/datasets/dataset.hpp"
+#include "artemis/datasets/pose_file.hpp"
+#include "artemis/eval/ray_consistency.hpp"
+#include "artemis/io/file.hpp"
+#include "progress.hpp"
+#include "run_folder.hpp"
+
+namespace artemis::cli {
+namespace {
+
+namespace fs = std::filesystem;
+using Json = nlohmann::ordered_json;
+
+struct RayEvalFlags {
+  std::string run;
+  std::string dataset;  // empty: the run's
+  std::size_t every = 5;
+  std::size_t returns = 20000;
+  double min_range_m = 2.0;
+  double max_range_m = 70.0;
+  eval::RayConsistencyParams params;
+  std::string json;  // empty: RUN/rays.json
+};
+
+int fail(const Status& status) {
+  log::error("{}", status.message());
+  return 1;
+}
+
+Status requireFile(const fs::path& path, const std::string& what) {
+  std::error_code ec;
+  if (fs::is_regular_file(path, ec)) return Status::ok();
+  return notFound(fmt::format("{}: not found; {}", path.string(), what));
+}
+
+// The run's recording and poses: config.json's dataset (or `flags.dataset`) over the run's frame
+// range, gated by the flags' range, one trajectory.txt pose per frame.
+struct RunScans {
+  std::unique_ptr<datasets::Dataset> dataset;
+  std::vector<Isometry3d> trajectory;
+  bool vertical_correction = false;
+};
+
+Result<RunScans> openRunScans(const RayEvalFlags& flags) {
+  const fs::path run(flags.run);
+  const std::string hint = "artemis run writes it into its --out folder";
+  if (Status s = requireFile(run / "config.json", hint); !s.isOk()) return s;
+  if (Status s = requireFile(run / "trajectory.txt", hint); !s.isOk()) return s;
+  auto recording = readRunRecording(run / "config.json");
+  if (!recording) return recording.status();
+  auto trajectory = datasets::readPoseFile(run / "trajectory.txt");
+  if (!trajectory) return trajectory.status();
+  datasets::DatasetOptions options;
+  options.frames = recording->frames;
+  options.min_range_m = flags.min_range_m;
+  options.max_range_m = flags.max_range_m;
+  options.vertical_angle_correction = recording->vertical_correction;
+  options.load_images = false;
+  if (!recording->sequence.empty()) options.sequence = recording->sequence;
+  const std::string path = flags.dataset.empty() ? recording->path : flags.dataset;
+  if (path.empty()) return parseError(fmt::format("{}: no dataset.path; give --dataset", (run / "config.json").string()));
+  auto dataset = datasets::openDataset(path, datasets::DatasetFormat::kAuto, options);
+  if (!dataset) return dataset.status();
+  if (trajectory->size() != (*dataset)->size()) {
+    return invalidArgument(fmt::format("{}: {} poses for the {} frames of {}", (run / "trajectory.txt").string(),
+                                       trajectory->size(), (*dataset)->size(), (*dataset)->root().string()));
+  }
+  return RunScans{std::move(*dataset), std::move(*trajectory), recording->vertical_correction};
+}
+
+Json sharesJson(const eval::RayCounts& c) {
+  return {{"surface", c.share(eval::RayClass::kSurface)},
+          {"blocked", c.share(eval::RayClass::kBlocked)},
+          {"hole", c.share(eval::RayClass::kHole)}};
+}
+
+Json countsJson(const eval::RayCounts& c) {
+  return {{"surface", c.surface}, {"blocked", c.blocked}, {"hole", c.hole}, {"rays", c.total()}};
+}
+
+double ratio(std::size_t part, std::size_t whole) {
+  return whole == 0 ? 0.0 : static_cast<double>(part) / static_cast<double>(whole);
+}
+
+Json blockedJson(const eval::RayTally& t, const eval::RayConsistencyParams& p) {
+  const auto& b = t.blocked;
+  const auto bins = b.gapHistogram();
+  Json histogram = Json::array();
+  const auto& edges = eval::BlockedBreakdown::kGapEdges_m;
+  for (std::size_t k = 0; k < bins.size(); ++k) {
+    histogram.push_back({{"from_m", k == 0 ? 0.0F : edges[k - 1]},
+                         {"to_m", k < edges.size() ? Json(edges[k]) : Json(nullptr)},
+                         {"rays", bins[k]},
+                         {"share", ratio(bins[k], t.all.blocked)}});
+  }
+  return {{"rays", t.all.blocked},
+          {"ground_returns", b.ground},
+          {"ground_share", ratio(b.ground, t.all.blocked)},
+          {"ground_drop_m", p.ground_drop_m},
+          {"horizontal_face", b.horizontal_face},
+          {"horizontal_face_share", ratio(b.horizontal_face, t.all.blocked)},
+          {"median_gap_m", b.medianGap_m()},
+          {"gap_histogram", histogram}};
+}
+
+void printTable(const eval::RayTally& t, std::size_t frames, const RayEvalFlags& flags) {
+  fmt::print("ray consistency of {}: {} rays from {} frames (every {}th, {} returns each, {}-{} m)\n",
+             (fs::path(flags.run) / "mesh.ply").string(), t.all.total(), frames, flags.every, flags.returns,
+             flags.min_range_m, flags.max_range_m);
+  fmt::print("{:<10} {:>9} {:>10}   {:>14}\n", "", "share", "rays", "ground returns");
+  const auto row = [&](const char* name, eval::RayClass kind, std::size_t n) {
+    fmt::print("{:<10} {:>8.1f}% {:>10}   {:>13.1f}%\n", name, 100.0 * t.all.share(kind), n,
+               100.0 * t.ground.share(kind));
+  };
+  row("surface", eval::RayClass::kSurface, t.all.surface);
+  row("blocked", eval::RayClass::kBlocked, t.all.blocked);
+  row("hole", eval::RayClass::kHole, t.all.hole);
+  fmt::print("blocked: {:.1f}% of them ground returns (> {} m below the sensor), {:.1f}% stopped by a level face; "
+             "median {:.2f} m in front of the return\n",
+             100.0 * ratio(t.blocked.ground, t.all.blocked), flags.params.ground_drop_m,
+             100.0 * ratio(t.blocked.horizontal_face, t.all.blocked), t.blocked.medianGap_m());
+  fmt::print("hole: {:.1f}% of them hit nothing at all\n", 100.0 * ratio(t.hole_no_hit, t.all.hole));
+}
+
+Json settingsJson(const RayEvalFlags& flags, const RunScans& scans) {
+  const datasets::Dataset& d = *scans.dataset;
+  return {{"dataset", d.root().string()},
+          {"format", d.format()},
+          {"frames", fmt::format("{}:{}", d.firstIndex(), d.firstIndex() + d.size())},
+          {"every", flags.every},
+          {"returns_per_frame", flags.returns},
+          {"subsample", "even stride over the range-gated returns in scan order"},
+          {"min_range_m", flags.min_range_m},
+          {"max_range_m", flags.max_range_m},
+          {"vertical_correction", scans.vertical_correction},
+          {"tolerance_m", flags.params.tolerance_m},
+          {"tolerance_share", flags.params.tolerance_share}};
+}
+
+// Casts the frames' subsampled returns; per-frame figures go into `frames_json`.
+Result<eval::RayTally> castFrames(const RunScans& scans, const eval::RayConsistency& rays, const RayEvalFlags& flags,
+                                  Json& frames_json, std::size_t& frames_cast) {
+  const datasets::Dataset& d = *scans.dataset;
+  eval::RayTally total;
+  ProgressLine progress("casting", "frames");
+  for (std::size_t i = 0; i < d.size(); i += flags.every) {
+    auto frame = d.frame(i);
+    if (!frame) return frame.status();
+    const Eigen::Isometry3f T_W_L = scans.trajectory[i].cast<float>();
+    const auto picked = eval::evenSubsample(frame->points_L.size(), flags.returns);
+    std::vector<Eigen::Vector3f> returns_W;
+    returns_W.reserve(picked.size());
+    for (const std::size_t k : picked) returns_W.push_back(T_W_L * frame->points_L.points[k]);
+    const eval::RayTally tally = rays.classifyFrame(T_W_L.translation(), returns_W);
+    frames_json.push_back({{"frame", frame->index},
+                           {"shares", sharesJson(tally.all)},
+                           {"counts", countsJson(tally.all)},
+                           {"blocked_ground", tally.blocked.ground}});
+    total += tally;
+    ++frames_cast;
+    progress.update(i + 1, d.size());
+  }
+  progress.finish();
+  return total;
+}
+
+int runRayEval(const RayEvalFlags& flags) {
+  if (flags.every == 0 || flags.returns == 0) return fail(invalidArgument("--every and --returns must be >= 1"));
+  if (!(flags.min_range_m >= 0.0 && flags.max_range_m > flags.min_range_m)) {
+    return fail(invalidArgument(
+        fmt::format("--min-range {} and --max-range {}: need 0 <= min < max", flags.min_range_m, flags.max_range_m)));
+  }
+  const fs::path mesh_path = fs::path(flags.run) / "mesh.ply";
+  if (Status s = requireFile(mesh_path, "artemis run writes it into its --out folder"); !s.isOk()) return fail(s);
+  auto scans = openRunScans(flags);
+  if (!scans) return fail(scans.status());
+  const Json settings = settingsJson(flags, *scans);
+  log::info("settings: {}", settings.dump());
+
+  Stopwatch clock;
+  auto mesh = eval::readMeshArrays(mesh_path);
+  if (!mesh) return fail(mesh.status());
+  if (mesh->triangles.empty()) return fail(parseError(fmt::format("{}: has no faces", mesh_path.string())));
+  std::unique_ptr<eval::RayConsistency> rays;
+  try {
+    rays = std::make_unique<eval::RayConsistency>(*mesh, flags.params);
+  } catch (const std::exception& e) {
+    return fail(invalidArgument(fmt::format("{}: {}", mesh_path.string(), e.what())));
+  }
+  const double build_s = clock.elapsedS();
+  log::info("{}: {} faces read and put in the ray-casting scene in {:.1f} s", mesh_path.string(),
+            mesh->triangles.size(), build_s);
+
+  Json frames = Json::array();
+  std::size_t frames_cast = 0;
+  auto tally = castFrames(*scans, *rays, flags, frames, frames_cast);
+  if (!tally) return fail(tally.status());
+  const double seconds = clock.elapsedS();
+  printTable(*tally, frames_cast, flags);
+
+  Json j{{"run", flags.run},
+         {"mesh", mesh_path.string()},
+         {"settings", settings},
+         {"shares", sharesJson(tally->all)},
+         {"counts", countsJson(tally->all)},
+         {"ground_returns", {{"shares", sharesJson(tally->ground)}, {"counts", countsJson(tally->ground)}}},
+         {"blocked", blockedJson(*tally, flags.params)},
+         {"hole_no_hit", tally->hole_no_hit},
+         {"frames", frames},
+         {"seconds", {{"scene", build_s}, {"total", seconds}}}};
+  const fs::path out = flags.json.empty() ? fs::path(flags.run) / "rays.json" : fs::path(flags.json);
+  const std::string text = j.dump(2) + "\n";
+  if (Status s = io::writeFileAtomic(out, std::as_bytes(std::span(text.data(), text.size()))); !s.isOk()) return fail(s);
+  log::info("{} rays cast in {:.1f} s; written to {}", tally->all.total(), seconds, out.string());
+  return 0;
+}
+
+}  // namespace
+
+void addEvalRaysCommand(CLI::App& eval, int& exit_code) {
+  auto flags = std::make_shared<RayEvalFlags>();
+  auto* cmd = eval.add_subcommand(
+      "rays",
+      "Ray consistency: every N-th frame's range-gated returns cast from the run's sensor pose into its mesh; "
+      "surface (the return lies within max(0.1 m, 1 % of the range) of the first hit face's plane), blocked (the "
+      "first hit is nearer: trails, spikes, floaters) or hole (no hit, or beyond the return)");
+  cmd->add_option("RUN", flags->run, "Run folder: mesh.ply, trajectory.txt, config.json")->required();
+  cmd->add_option("--dataset", flags->dataset, "The recording (default: the run's)");
+  cmd->add_option("--every", flags->every, "Cast the returns of every N-th frame of the run")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--returns", flags->returns, "Returns per frame (an even subsample of the range-gated ones)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--min-range", flags->min_range_m, "Range gate: drop returns closer than this (m)")
+      ->capture_default_str();
+  cmd->add_option("--max-range", flags->max_range_m, "Range gate: drop returns farther than this (m)")
+      ->capture_default_str();
+  cmd->add_option("--tolerance", flags->params.tolerance_m, "Least distance from the hit face's plane (m)")
+      ->capture_default_str()
+      ->check(CLI::PositiveNumber);
+  cmd->add_option("--tolerance-share", flags->params.tolerance_share, "... or this share of the range, if larger")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  cmd->add_option("--ground-drop", flags->params.ground_drop_m,
+                  "Diagnostics: returns this far below the sensor are ground returns (m)")
+      ->capture_default_str();
+  cmd->add_option("--json", flags->json, "Where to write the figures (default: RUN/rays.json)");
+  cmd->callback([flags, &exit_code] { exit_code = runRayEval(*flags); });
+}
+
+}  // namespace artemis::cli
