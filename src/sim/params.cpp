@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdint>
 #include <limits>
@@ -64,6 +65,21 @@ void visitParams(SimParams& p, Visitor&& v) {
   v("trajectory.lateral_amplitude_m", t.lateral_amplitude_m);
   v("trajectory.lateral_wavelength_m", t.lateral_wavelength_m);
   v("trajectory.frame_rate_hz", t.frame_rate_hz);
+  TrafficParams& m = p.traffic;
+  v("traffic.cars_ahead", m.cars_ahead);
+  v("traffic.cars_behind", m.cars_behind);
+  v("traffic.gap_ahead_m", m.gap_ahead_m);
+  v("traffic.gap_behind_m", m.gap_behind_m);
+  v("traffic.follower_spacing_m", m.follower_spacing_m);
+  v("traffic.gap_variation_m", m.gap_variation_m);
+  v("traffic.gap_period_s", m.gap_period_s);
+  v("traffic.oncoming_cars_per_100m", m.oncoming_cars_per_100m);
+  v("traffic.oncoming_speed_mps", m.oncoming_speed_mps);
+  v("traffic.cyclists_per_100m", m.cyclists_per_100m);
+  v("traffic.cyclist_speed_mps", m.cyclist_speed_mps);
+  v("traffic.walkers_per_100m", m.walkers_per_100m);
+  v("traffic.walker_speed_mps", m.walker_speed_mps);
+  v("traffic.crossings", m.crossings);
 }
 
 ordered_json::json_pointer pointerOf(const std::string& dotted) {
@@ -84,6 +100,30 @@ Result<SimParams> presetParams(const std::string& name) {
     return p;
   }
   return invalidArgument(fmt::format("unknown preset '{}' (known: street, demo)", name));
+}
+
+Result<TrafficParams> trafficPreset(const std::string& name) {
+  TrafficParams t;
+  if (name == "none") return t;
+  if (name == "drive0013") {
+    t.cars_ahead = 1;
+    t.cars_behind = 1;
+    t.gap_ahead_m = 14.0;  // 11..17 m
+    t.gap_behind_m = 16.0;  // 13..19 m
+    return t;
+  }
+  if (name == "street") {
+    t.cars_ahead = 2;
+    t.cars_behind = 1;
+    t.gap_ahead_m = 18.0;
+    t.gap_behind_m = 20.0;
+    t.oncoming_cars_per_100m = 2.5;
+    t.cyclists_per_100m = 1.5;
+    t.walkers_per_100m = 4.0;
+    t.crossings = 2;
+    return t;
+  }
+  return invalidArgument(fmt::format("unknown traffic '{}' (known: none, street, drive0013)", name));
 }
 
 std::string paramsToJson(const SimParams& params) {
@@ -151,6 +191,42 @@ Result<SimParams> paramsFromJson(const std::string& text) {
   return p;
 }
 
+namespace {
+
+Status validateTraffic(const SimParams& p) {
+  const auto fail = [](const std::string& what) { return invalidArgument("simulator traffic settings: " + what); };
+  const TrafficParams& m = p.traffic;
+  if (m.cars_ahead < 0 || m.cars_ahead > 5 || m.cars_behind < 0 || m.cars_behind > 5) {
+    return fail("cars_ahead and cars_behind must be in 0..5");
+  }
+  if (!(m.gap_variation_m >= 0 && m.gap_ahead_m - m.gap_variation_m >= 8.0 &&
+        m.gap_behind_m - m.gap_variation_m >= 8.0 && m.gap_ahead_m <= 60 && m.gap_behind_m <= 60)) {
+    return fail("the follower gaps minus gap_variation_m must stay at least 8 m (bumper to bumper), at most 60 m");
+  }
+  if (!(m.follower_spacing_m >= 8.0 + 2.0 * m.gap_variation_m && m.follower_spacing_m <= 60)) {
+    return fail("follower_spacing_m must be in [8 + 2 gap_variation_m, 60]");
+  }
+  if (!(m.gap_period_s > 0)) return fail("gap_period_s must be positive");
+  // The street reaches start_x_m beyond both ends of the drive: the farthest follower stays on it.
+  const double reach_ahead = m.gap_ahead_m + std::max(0, m.cars_ahead - 1) * m.follower_spacing_m;
+  const double reach_behind = m.gap_behind_m + std::max(0, m.cars_behind - 1) * m.follower_spacing_m;
+  if ((m.cars_ahead > 0 && reach_ahead + m.gap_variation_m + 5.0 > p.trajectory.start_x_m) ||
+      (m.cars_behind > 0 && reach_behind + m.gap_variation_m + 5.0 > p.trajectory.start_x_m)) {
+    return fail("the farthest follower must stay within trajectory.start_x_m - 5 m of the ego car");
+  }
+  for (double d : {m.oncoming_cars_per_100m, m.cyclists_per_100m, m.walkers_per_100m}) {
+    if (!(d >= 0 && d <= 10)) return fail("traffic densities must be in [0, 10] per 100 m");
+  }
+  if (!(m.oncoming_speed_mps >= 1 && m.oncoming_speed_mps <= 30)) return fail("oncoming_speed_mps must be in [1, 30]");
+  if (!(m.cyclist_speed_mps >= 1 && m.cyclist_speed_mps <= 12)) return fail("cyclist_speed_mps must be in [1, 12]");
+  if (!(m.walker_speed_mps >= 0.3 && m.walker_speed_mps <= 3)) return fail("walker_speed_mps must be in [0.3, 3]");
+  if (m.crossings < 0 || m.crossings > 20) return fail("crossings must be in 0..20");
+  if (m.any() && p.scene.lane_width_m < 3.0) return fail("traffic needs lanes at least 3 m wide");
+  return Status::ok();
+}
+
+}  // namespace
+
 Status validate(const SimParams& p) {
   const auto fail = [](const std::string& what) { return invalidArgument("simulator settings: " + what); };
   if (p.frames < 1 || p.frames > 100000) return fail(fmt::format("frames must be in 1..100000 (got {})", p.frames));
@@ -188,6 +264,7 @@ Status validate(const SimParams& p) {
     return fail("speed_period_s and lateral_wavelength_m must be positive");
   if (!(std::abs(t.lateral_amplitude_m) <= 1.0)) return fail("lateral_amplitude_m must be within +-1 m (the lane)");
   if (!(t.start_x_m >= 20 && t.start_x_m <= 500)) return fail("start_x_m must be in [20, 500]");
+  if (Status traffic = validateTraffic(p); !traffic.isOk()) return traffic;
   // The street grows with the drive; keep it (and its 16-bit instance ids) within bounds.
   const double drive_s = (p.frames - 1) / t.frame_rate_hz;
   const double drive_m = (t.speed_mean_mps + std::abs(t.speed_amplitude_mps)) * drive_s;

@@ -12,6 +12,7 @@
 #include "colour.hpp"
 #include "mesh_builder.hpp"
 #include "noise.hpp"
+#include "shapes.hpp"
 
 namespace artemis::sim {
 
@@ -42,6 +43,7 @@ const char* className(std::uint16_t class_id) {
     case cls::kBicycle: return "bicycle";
     case cls::kTruck: return "truck";
     case cls::kPerson: return "person";
+    case cls::kBicyclist: return "bicyclist";
     case cls::kRoad: return "road";
     case cls::kParking: return "parking";
     case cls::kSidewalk: return "sidewalk";
@@ -53,6 +55,9 @@ const char* className(std::uint16_t class_id) {
     case cls::kPole: return "pole";
     case cls::kTrafficSign: return "traffic-sign";
     case cls::kOtherObject: return "other-object";
+    case cls::kMovingCar: return "moving-car";
+    case cls::kMovingBicyclist: return "moving-bicyclist";
+    case cls::kMovingPerson: return "moving-person";
     default: return "?";
   }
 }
@@ -63,6 +68,7 @@ std::array<std::uint8_t, 3> classColor(std::uint16_t class_id) {
     case cls::kBicycle: return {100, 230, 245};
     case cls::kTruck: return {80, 30, 180};
     case cls::kPerson: return {255, 30, 30};
+    case cls::kBicyclist: return {255, 40, 200};
     case cls::kRoad: return {255, 0, 255};
     case cls::kParking: return {255, 150, 255};
     case cls::kSidewalk: return {75, 0, 75};
@@ -74,6 +80,9 @@ std::array<std::uint8_t, 3> classColor(std::uint16_t class_id) {
     case cls::kPole: return {255, 240, 150};
     case cls::kTrafficSign: return {255, 0, 0};
     case cls::kOtherObject: return {255, 255, 50};
+    case cls::kMovingCar: return classColor(cls::kCar);
+    case cls::kMovingBicyclist: return classColor(cls::kBicyclist);
+    case cls::kMovingPerson: return classColor(cls::kPerson);
     default: return {0, 0, 0};
   }
 }
@@ -101,12 +110,7 @@ namespace {
 using detail::MeshBuilder;
 using detail::Rng;
 
-Isometry3d frameAt(const Vector3d& p, double yaw) {
-  Isometry3d T = Isometry3d::Identity();
-  T.linear() = Eigen::AngleAxisd(yaw, Vector3d::UnitZ()).toRotationMatrix();
-  T.translation() = p;
-  return T;
-}
+using detail::frameAt;
 
 using detail::rgb;
 
@@ -368,52 +372,6 @@ class StreetBuilder {
     });
   }
 
-  // Car body: lower box, cabin frustum, four wheels. Object frame at the footprint's centre.
-  void carShape(const Isometry3d& T, int variant, double len, double width) {
-    struct Shape {
-      double body_z0, body_z1, cabin_z1, cabin_b0, cabin_b1, cabin_t0, cabin_t1;
-    };
-    const Shape shapes[] = {
-        {0.28, 0.85, 1.42, -0.26, 0.22, -0.2, 0.1},    // sedan: cabin over the middle
-        {0.28, 0.88, 1.48, -0.46, 0.22, -0.44, 0.06},  // hatchback: cabin to the rear
-        {0.32, 1.00, 1.85, -0.47, 0.25, -0.46, 0.13},  // van: tall cabin
-    };
-    const Shape& s = shapes[variant];
-    const double hl = len / 2;
-    const double hw = width / 2;
-    builder_.setMaterial(Material::kCarBody);
-    builder_.setMaxEdge(0.25);
-    builder_.box(T, {-hl, -hw, s.body_z0}, {hl, hw, s.body_z1}, true);
-    builder_.setMaterial(Material::kCarCabin);
-    builder_.frustum(T, {s.cabin_b0 * len, -hw + 0.06}, {s.cabin_b1 * len, hw - 0.06}, s.body_z1,
-                     {s.cabin_t0 * len, -hw + 0.2}, {s.cabin_t1 * len, hw - 0.2}, s.cabin_z1, false);
-    wheels(T, hl - 0.8, hw, 0.32, 0.22);  // tyres flush with the body: a car at the curb touches it
-  }
-
-  void wheels(const Isometry3d& T, double axle_x, double outer_y, double radius, double tyre_width) {
-    builder_.setMaterial(Material::kRubber);
-    builder_.setMaxEdge(0.2);
-    for (double x : {-axle_x, axle_x}) {
-      for (int s : {1, -1}) {
-        Isometry3d W = T;  // cylinder axis along the car's y
-        W.linear() = T.linear() * Eigen::AngleAxisd(-s * std::numbers::pi / 2, Vector3d::UnitX()).toRotationMatrix();
-        W.translation() = T * Vector3d(x, s * (outer_y - tyre_width), radius);
-        builder_.cylinder(W, radius, 0.0, tyre_width);
-      }
-    }
-  }
-
-  void truckShape(const Isometry3d& T, double len) {
-    const double hw = 1.25;
-    builder_.setMaterial(Material::kCarCabin);
-    builder_.setMaxEdge(0.3);
-    builder_.box(T, {len / 2 - 2.1, -hw + 0.05, 0.45}, {len / 2, hw - 0.05, 2.9}, true);
-    builder_.setMaterial(Material::kCarBody);
-    builder_.box(T, {-len / 2, -hw, 0.95}, {len / 2 - 2.3, hw, 3.6}, true);
-    builder_.box(T, {-len / 2 + 0.3, -0.5, 0.5}, {len / 2 - 2.1, 0.5, 0.95}, true);  // chassis
-    wheels(T, len / 2 - 1.2, hw - 0.05, 0.5, 0.3);
-  }
-
   void vehicles() {
     const int cars = static_cast<int>(count(p_.cars_per_100m, 10));
     const int trucks = static_cast<int>(count(p_.trucks_per_100m, 1));
@@ -445,13 +403,13 @@ class StreetBuilder {
         const Vector3d centre = at(x + len / 2, side, y_out, 0.0);
         if (truck) {
           addObject("truck", cls::kTruck, centre, yaw, {len, width, 3.6}, rgb(0.8, 0.8, 0.8), 0, Material::kCarBody);
-          truckShape(frameAt(centre, yaw), len);
+          detail::truckShape(builder_, frameAt(centre, yaw), len);
           --trucks_left;
         } else {
           const double height = variant == 2 ? 1.85 : 1.45;
           addObject("car", cls::kCar, centre, yaw, {len, width, height}, paints[rng_.integer(0, 6)], variant,
                     Material::kCarBody);
-          carShape(frameAt(centre, yaw), variant, len, width);
+          detail::carShape(builder_, frameAt(centre, yaw), variant, len, width);
           --cars_left;
         }
         // Bumper to bumper with the next one now and then.
@@ -463,14 +421,7 @@ class StreetBuilder {
   void person(const Vector3d& base, double yaw, const Vector3f& shirt, int variant) {
     const double H = rng_.uniform(1.6, 1.9);
     addObject("person", cls::kPerson, base, yaw, {0.3, 0.5, H}, shirt, variant, Material::kCloth);
-    const Isometry3d T = frameAt(base, yaw);
-    builder_.setMaxEdge(0.12);
-    builder_.box(T, {-0.08, -0.17, 0.0}, {0.08, -0.03, 0.47 * H});
-    builder_.box(T, {-0.08, 0.03, 0.0}, {0.08, 0.17, 0.47 * H});
-    builder_.frustum(T, {-0.1, -0.17}, {0.1, 0.17}, 0.47 * H, {-0.12, -0.22}, {0.12, 0.22}, 0.82 * H, true);
-    builder_.box(T, {-0.05, -0.3, 0.45 * H}, {0.05, -0.23, 0.8 * H}, true);
-    builder_.box(T, {-0.05, 0.23, 0.45 * H}, {0.05, 0.3, 0.8 * H}, true);
-    builder_.ellipsoid(frameAt(T * Vector3d(0, 0, 0.905 * H), yaw), {0.09 * H * 0.6, 0.09 * H * 0.55, 0.095 * H});
+    detail::personShape(builder_, base, yaw, H);
   }
 
   void people() {
@@ -520,23 +471,7 @@ class StreetBuilder {
       const double yaw = rng_.chance(0.5) ? 0.0 : std::numbers::pi;
       addObject("bicycle", cls::kBicycle, base, yaw, {1.75, 0.5, 1.05}, frames[rng_.integer(0, 3)], 0,
                 Material::kMetal);
-      const Isometry3d T = frameAt(base, yaw);
-      builder_.setMaxEdge(0.1);
-      const double r = 0.34;
-      for (double wx : {-0.52, 0.52}) {
-        Isometry3d W = T;
-        W.linear() = T.linear() * Eigen::AngleAxisd(-std::numbers::pi / 2, Vector3d::UnitX()).toRotationMatrix();
-        W.translation() = T * Vector3d(wx, -0.02, r);
-        builder_.setMaterial(Material::kRubber);
-        builder_.cylinder(W, r, 0.0, 0.04);
-      }
-      builder_.setMaterial(Material::kMetal);
-      builder_.box(T, {-0.52, -0.02, r - 0.02}, {0.1, 0.02, r + 0.02}, true);  // chain stay
-      builder_.box(T, {-0.1, -0.02, r}, {-0.05, 0.02, 0.85}, true);            // seat tube
-      builder_.box(T, {-0.1, -0.02, 0.72}, {0.45, 0.02, 0.76}, true);          // top tube
-      builder_.box(T, {0.42, -0.02, r}, {0.46, 0.02, 0.95}, true);             // fork and stem
-      builder_.box(T, {0.4, -0.28, 0.95}, {0.46, 0.28, 0.99}, true);           // handlebar
-      builder_.box(T, {-0.2, -0.08, 0.85}, {0.05, 0.08, 0.9}, true);           // saddle
+      detail::bicycleShape(builder_, frameAt(base, yaw));
     });
   }
 

@@ -6,9 +6,12 @@
 #include <algorithm>
 #include <cmath>
 #include <numbers>
+#include <optional>
 #include <stdexcept>
 
 #include "colour.hpp"
+#include "ego_path.hpp"
+#include "mover_caster.hpp"
 #include "noise.hpp"
 #include "raycaster.hpp"
 
@@ -46,26 +49,64 @@ const KittiCalibration& kittiCalibration() {
   return calibration;
 }
 
+// The static street's BVH, and the movers' (when there is traffic), cast against together: a
+// ray takes the nearer of the two hits.
 struct Simulator::Tracer {
-  explicit Tracer(const SceneMesh& mesh) : raycaster(mesh) {}
+  explicit Tracer(const SceneMesh& mesh, const std::vector<Mover>& movers) : raycaster(mesh) {
+    if (!movers.empty()) mover_caster = std::make_unique<detail::MoverCaster>(movers);
+  }
   detail::Raycaster raycaster;
+  std::unique_ptr<detail::MoverCaster> mover_caster;
 };
 
 namespace {
 
-// Distance travelled after t seconds with speed mean + amplitude * sin(2 pi t / period).
-double distanceAt(const TrajectoryParams& p, double t) {
-  const double w = 2.0 * std::numbers::pi / p.speed_period_s;
-  return p.speed_mean_mps * t + p.speed_amplitude_mps * (1.0 - std::cos(w * t)) / w;
+// What a ray hit: a face of the static street or of a mover, the mover's pose, and the hit point
+// in the frame its textures live in (the scene's, or the mover's own).
+struct Surface {
+  bool on_mover = false;
+  std::uint32_t face = 0;
+  float t = 0.0f;
+  const Mover* mover = nullptr;
+  Isometry3d T_S_M = Isometry3d::Identity();
+};
+
+// The frame's movers and their poses, null without traffic.
+struct MoversAt {
+  std::unique_ptr<detail::MoverCaster::Moment> moment;
+  std::vector<Isometry3d> T_S_M;
+};
+
+// Nearest hit of the static street and the movers along origin + t d_S, t in [t_near, t_far].
+std::optional<Surface> castRay(const detail::Raycaster& street, const std::vector<Mover>& movers,
+                               const MoversAt& at, const Vector3f& origin, const Vector3f& d_S, float t_near,
+                               float t_far) {
+  const detail::Hit hit = street.intersect(origin, d_S, t_near, t_far);
+  if (at.moment) {
+    const detail::MoverHit m = at.moment->intersect(origin, d_S, t_near, hit.valid() ? hit.t : t_far);
+    if (m.valid()) return Surface{true, m.face, m.t, &movers[m.mover], at.T_S_M[m.mover]};
+  }
+  if (!hit.valid()) return std::nullopt;
+  return Surface{false, hit.face, hit.t, nullptr, Isometry3d::Identity()};
+}
+
+MoversAt placeMovers(const detail::MoverCaster* caster, std::vector<Isometry3d> T_S_M) {
+  MoversAt at;
+  if (caster == nullptr) return at;
+  at.moment = caster->at(T_S_M);
+  at.T_S_M = std::move(T_S_M);
+  return at;
 }
 
 }  // namespace
 
 Simulator::Simulator(const SimParams& params) : params_(params) {
   if (Status s = validate(params_); !s.isOk()) throw std::invalid_argument(s.message());
-  const double end_x = params_.trajectory.start_x_m + distanceAt(params_.trajectory, stamp_s(params_.frames - 1));
+  const double end_x =
+      params_.trajectory.start_x_m + detail::egoDistanceAt(params_.trajectory, stamp_s(params_.frames - 1));
   scene_ = generateScene(params_.scene, end_x + params_.trajectory.start_x_m);
-  tracer_ = std::make_unique<Tracer>(scene_.mesh);
+  movers_ = planTraffic(params_, scene_);
+  tracer_ = std::make_unique<Tracer>(scene_.mesh, movers_);
 
   const KittiCalibration& c = kittiCalibration();
   camera_.width_px = params_.camera.width_px;
@@ -96,20 +137,16 @@ double Simulator::speed_mps(int frame) const {
          p.speed_amplitude_mps * std::sin(2.0 * std::numbers::pi * stamp_s(frame) / p.speed_period_s);
 }
 
-Simulator::Pose Simulator::poseAt(double t_s) const {
-  const TrajectoryParams& p = params_.trajectory;
-  const double s = distanceAt(p, t_s);
-  const double k = 2.0 * std::numbers::pi / p.lateral_wavelength_m;
-  Pose pose;
-  pose.x = p.start_x_m + s;
-  // Right-hand lane, weaving gently; heading follows the weave.
-  pose.y = -params_.scene.lane_width_m / 2.0 + p.lateral_amplitude_m * std::sin(k * s);
-  pose.yaw = std::atan(p.lateral_amplitude_m * k * std::cos(k * s));
-  return pose;
+std::vector<Isometry3d> Simulator::moverPoses(int frame) const {
+  std::vector<Isometry3d> poses;
+  poses.reserve(movers_.size());
+  for (const Mover& m : movers_) poses.push_back(moverPose(m, params_, scene_.length_m, stamp_s(frame)));
+  return poses;
 }
 
 Isometry3d Simulator::T_S_L(int frame) const {
-  const Pose pose = poseAt(stamp_s(frame));
+  const detail::PlanarPose pose =
+      detail::egoPoseAtDistance(params_, detail::egoDistanceAt(params_.trajectory, stamp_s(frame)));
   Isometry3d T = Isometry3d::Identity();
   T.linear() = Eigen::AngleAxisd(pose.yaw, Vector3d::UnitZ()).toRotationMatrix();
   T.translation() = Vector3d(pose.x, pose.y, params_.lidar.mount_height_m);
@@ -121,11 +158,10 @@ Isometry3d Simulator::T_W_L(int frame) const {
   return T_S_W_.inverse() * T_S_L(frame);
 }
 
-LidarScan Simulator::scan(int frame) const {
-  const LidarParams& p = params_.lidar;
-  const int columns = static_cast<int>(std::lround(360.0 / p.azimuth_step_deg));
-  const int beams = 2 * p.beams_per_block;
-  std::vector<double> elevation(static_cast<std::size_t>(beams));
+namespace {
+
+std::vector<double> beamElevations(const LidarParams& p) {
+  std::vector<double> elevation(static_cast<std::size_t>(2 * p.beams_per_block));
   for (int b = 0; b < p.beams_per_block; ++b) {
     const double f = p.beams_per_block > 1 ? static_cast<double>(b) / (p.beams_per_block - 1) : 0.0;
     elevation[static_cast<std::size_t>(b)] =
@@ -133,15 +169,28 @@ LidarScan Simulator::scan(int frame) const {
     elevation[static_cast<std::size_t>(b + p.beams_per_block)] =
         (p.lower_top_deg + f * (p.lower_bottom_deg - p.lower_top_deg)) * std::numbers::pi / 180.0;
   }
+  return elevation;
+}
+
+}  // namespace
+
+LidarScan Simulator::scan(int frame) const {
+  const LidarParams& p = params_.lidar;
+  const int columns = static_cast<int>(std::lround(360.0 / p.azimuth_step_deg));
+  const int beams = 2 * p.beams_per_block;
+  const std::vector<double> elevation = beamElevations(p);
   const Isometry3d T = T_S_L(frame);
   const Matrix3d R = T.linear();
   const Vector3f origin = T.translation().cast<float>();
   const std::uint64_t frame_seed = detail::hash(params_.scene.seed, 0x11DA7u, static_cast<std::uint64_t>(frame));
+  const MoversAt movers = placeMovers(tracer_->mover_caster.get(), moverPoses(frame));
 
   // Every ray has its slot, so the output order (column by column, top beam first) is fixed.
   const std::size_t n = static_cast<std::size_t>(columns) * static_cast<std::size_t>(beams);
   std::vector<Eigen::Vector4f> points(n);
-  std::vector<std::uint32_t> faces(n, detail::Hit::kNoFace);
+  std::vector<std::uint32_t> faces(n, LidarScan::kNoFace);
+  std::vector<std::uint32_t> labels(n, 0);
+  std::vector<std::uint8_t> returned(n, 0);
   tbb::parallel_for(tbb::blocked_range<int>(0, columns, 64), [&](const tbb::blocked_range<int>& range) {
     for (int c = range.begin(); c < range.end(); ++c) {
       const double azimuth = -std::numbers::pi + (c + 0.5) * p.azimuth_step_deg * std::numbers::pi / 180.0;
@@ -153,17 +202,31 @@ LidarScan Simulator::scan(int frame) const {
         const double e = elevation[static_cast<std::size_t>(b)];
         const Vector3d d_L(std::cos(e) * std::cos(azimuth), std::cos(e) * std::sin(azimuth), std::sin(e));
         const Vector3d d_S = R * d_L;
-        const detail::Hit hit = tracer_->raycaster.intersect(
-            origin, d_S.cast<float>(), static_cast<float>(p.min_range_m), static_cast<float>(p.max_range_m));
-        if (!hit.valid()) continue;
-        const double range_m = hit.t + p.range_noise_m * detail::gaussian(detail::mix64(ray_seed));
+        const std::optional<Surface> hit =
+            castRay(tracer_->raycaster, movers_, movers, origin, d_S.cast<float>(), static_cast<float>(p.min_range_m),
+                    static_cast<float>(p.max_range_m));
+        if (!hit) continue;
+        const double range_m = hit->t + p.range_noise_m * detail::gaussian(detail::mix64(ray_seed));
         if (range_m < p.min_range_m || range_m > p.max_range_m) continue;
-        const Vector3d p_S = origin.cast<double>() + static_cast<double>(hit.t) * d_S;
-        const double cos_incidence = scene_.mesh.faceNormal(hit.face).dot(d_S);
-        const float intensity = scene_.reflectivity(hit.face, p_S, cos_incidence);
+        const Vector3d p_S = origin.cast<double>() + static_cast<double>(hit->t) * d_S;
+        float intensity = 0.0f;
+        if (hit->on_mover) {
+          const Scene& shape = hit->mover->shape;
+          const Matrix3d R_S_M = hit->T_S_M.linear();
+          const double cos_incidence = shape.mesh.faceNormal(hit->face).dot(R_S_M.transpose() * d_S);
+          intensity = shape.reflectivity(hit->face, hit->T_S_M.inverse() * p_S, cos_incidence);
+          labels[slot] = static_cast<std::uint32_t>(hit->mover->moving_id) |
+                         (static_cast<std::uint32_t>(hit->mover->instance_id) << 16);
+        } else {
+          const double cos_incidence = scene_.mesh.faceNormal(hit->face).dot(d_S);
+          intensity = scene_.reflectivity(hit->face, p_S, cos_incidence);
+          faces[slot] = hit->face;
+          labels[slot] = static_cast<std::uint32_t>(scene_.mesh.face_class[hit->face]) |
+                         (static_cast<std::uint32_t>(scene_.mesh.face_instance[hit->face]) << 16);
+        }
         const Vector3f p_L = (range_m * d_L).cast<float>();
         points[slot] = Eigen::Vector4f(p_L.x(), p_L.y(), p_L.z(), intensity);
-        faces[slot] = hit.face;
+        returned[slot] = 1;
       }
     }
   });
@@ -171,11 +234,10 @@ LidarScan Simulator::scan(int frame) const {
   LidarScan out;
   out.points_L.reserve(n / 2);
   for (std::size_t i = 0; i < n; ++i) {
-    if (faces[i] == detail::Hit::kNoFace) continue;
+    if (returned[i] == 0) continue;
     out.points_L.push_back(points[i]);
     out.faces.push_back(faces[i]);
-    out.labels.push_back(static_cast<std::uint32_t>(scene_.mesh.face_class[faces[i]]) |
-                         (static_cast<std::uint32_t>(scene_.mesh.face_instance[faces[i]]) << 16));
+    out.labels.push_back(labels[i]);
   }
   return out;
 }
@@ -197,30 +259,42 @@ CameraImages Simulator::render(int frame) const {
   const double exposure = 1.5 * (1.0 + p.exposure_variation * (2.0 * detail::unit(frame_seed) - 1.0));
   const Vector3d sun_colour(1.0, 0.95, 0.85);
   const Vector3d sky_light(0.8, 0.88, 1.0);
+  const MoversAt movers = placeMovers(tracer_->mover_caster.get(), moverPoses(frame));
+  const auto in_shadow = [&](const Vector3f& from) {
+    return tracer_->raycaster.occluded(from, sun.cast<float>(), 0.0f, 1e4f) ||
+           (movers.moment && movers.moment->occluded(from, sun.cast<float>(), 0.0f, 1e4f));
+  };
 
   tbb::parallel_for(tbb::blocked_range<int>(0, h, 4), [&](const tbb::blocked_range<int>& rows) {
     for (int v = rows.begin(); v < rows.end(); ++v) {
       for (int u = 0; u < w; ++u) {
         const Vector3d d_C((u - camera_.cx_px) / camera_.fx_px, (v - camera_.cy_px) / camera_.fy_px, 1.0);
         const Vector3d d_S = R * d_C;  // z component 1 in C: hit.t is the depth along the optical axis
-        const detail::Hit hit = tracer_->raycaster.intersect(origin, d_S.cast<float>(), 0.05f, 1e4f);
+        const std::optional<Surface> hit =
+            castRay(tracer_->raycaster, movers_, movers, origin, d_S.cast<float>(), 0.05f, 1e4f);
         Vector3d linear;
-        if (hit.valid()) {
-          const Vector3d p_S = origin.cast<double>() + static_cast<double>(hit.t) * d_S;
-          Vector3d n = scene_.mesh.faceNormal(hit.face);
+        if (hit) {
+          const Vector3d p_S = origin.cast<double>() + static_cast<double>(hit->t) * d_S;
+          Vector3d n;
+          Vector3d albedo;
+          if (hit->on_mover) {
+            n = hit->T_S_M.linear() * hit->mover->shape.mesh.faceNormal(hit->face);
+            albedo = hit->mover->shape.albedo(hit->face, hit->T_S_M.inverse() * p_S).cast<double>();
+            out.semantic.at(u, v) = hit->mover->class_id;
+            out.instance.at(u, v) = hit->mover->instance_id;
+          } else {
+            n = scene_.mesh.faceNormal(hit->face);
+            albedo = scene_.albedo(hit->face, p_S).cast<double>();
+            out.semantic.at(u, v) = scene_.mesh.face_class[hit->face];
+            out.instance.at(u, v) = scene_.mesh.face_instance[hit->face];
+          }
           if (n.dot(d_S) > 0.0) n = -n;  // light the side the camera sees
           double direct = std::max(0.0, n.dot(sun));
-          if (direct > 0.0 &&
-              tracer_->raycaster.occluded((p_S + 0.01 * n).cast<float>(), sun.cast<float>(), 0.0f, 1e4f)) {
-            direct = 0.0;
-          }
-          const Vector3d albedo = scene_.albedo(hit.face, p_S).cast<double>();
+          if (direct > 0.0 && in_shadow((p_S + 0.01 * n).cast<float>())) direct = 0.0;
           const double sky_view = 0.75 + 0.25 * n.z();  // surfaces facing up see more sky
           linear =
               albedo.cwiseProduct(p.ambient * sky_view * sky_light + (1.0 - p.ambient) * 1.6 * direct * sun_colour);
-          out.semantic.at(u, v) = scene_.mesh.face_class[hit.face];
-          out.instance.at(u, v) = scene_.mesh.face_instance[hit.face];
-          const double depth_mm = std::round(static_cast<double>(hit.t) * 1000.0);
+          const double depth_mm = std::round(static_cast<double>(hit->t) * 1000.0);
           out.depth_mm.at(u, v) = depth_mm <= 65535.0 ? static_cast<std::uint16_t>(depth_mm) : 0;
         } else {
           const double up = std::clamp(d_S.normalized().z(), 0.0, 1.0);

@@ -97,6 +97,45 @@ Status writeMesh(const Simulator& sim, const fs::path& path) {
   return io::writePly(path, ply);
 }
 
+const char* motionName(MotionKind kind) {
+  switch (kind) {
+    case MotionKind::kFollow: return "follow";
+    case MotionKind::kLine: return "line";
+    case MotionKind::kPace: return "pace";
+    case MotionKind::kCross: return "cross";
+  }
+  return "?";
+}
+
+// The movers and their motions (traffic.hpp), with their poses at the first frame.
+nlohmann::ordered_json moversJson(const Simulator& sim) {
+  nlohmann::ordered_json movers = nlohmann::ordered_json::array();
+  const std::vector<Isometry3d> T_S_M = sim.moverPoses(0);
+  for (std::size_t i = 0; i < sim.movers().size(); ++i) {
+    const Mover& m = sim.movers()[i];
+    const MoverMotion& mo = m.motion;
+    nlohmann::ordered_json motion = {{"kind", motionName(mo.kind)}};
+    if (mo.kind == MotionKind::kFollow) {
+      motion.update({{"gap_m", mo.gap_m},
+                     {"gap_variation_m", mo.gap_variation_m},
+                     {"gap_period_s", mo.gap_period_s},
+                     {"phase_rad", mo.phase_rad}});
+    } else {
+      motion.update({{"x0", mo.x0}, {"x1", mo.x1}, {"y0", mo.y0}, {"y1", mo.y1}, {"z", mo.z},
+                     {"speed_mps", mo.speed_mps}, {"t0_s", mo.t0_s}});
+    }
+    const Eigen::Vector3d p = T_S_M[i].translation();
+    movers.push_back({{"instance_id", m.instance_id},
+                      {"kind", m.kind},
+                      {"class_id", m.class_id},
+                      {"label_id", m.moving_id},
+                      {"footprint_m", {2 * m.half_extent_m.x(), 2 * m.half_extent_m.y()}},
+                      {"position_S_at_frame_0", {p.x(), p.y(), p.z()}},
+                      {"motion", motion}});
+  }
+  return movers;
+}
+
 }  // namespace
 
 std::string sceneJson(const Simulator& sim) {
@@ -129,6 +168,7 @@ std::string sceneJson(const Simulator& sim) {
                        {"variant", o.variant}});
   }
   j["objects"] = objects;
+  if (!sim.movers().empty()) j["movers"] = moversJson(sim);
   return j.dump(1) + "\n";
 }
 
@@ -205,6 +245,7 @@ Result<SimReport> writeSequence(const SimParams& params, const fs::path& out, co
   report.scene_ms = watch.elapsedMs();
   report.classes = countClasses(sim.scene());
   report.triangles = sim.scene().mesh.faceCount();
+  for (const Mover& m : sim.movers()) ++report.movers[m.kind];
   report.street_length_m = sim.scene().length_m;
   for (int k = 1; k < sim.frames(); ++k) {
     report.path_length_m += (sim.T_S_L(k).translation() - sim.T_S_L(k - 1).translation()).norm();

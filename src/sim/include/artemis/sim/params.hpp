@@ -73,16 +73,54 @@ struct TrajectoryParams {
   double frame_rate_hz = 10.0;
 };
 
+// Moving road users (traffic.hpp). Everything is off by default: the street is then static, as it
+// was before traffic existed, and gives the same files byte for byte. Counts per 100 m are of the
+// street's whole length; movers that would cross the ego car's path are not placed.
+struct TrafficParams {
+  // Cars in the ego lane keeping pace with the ego car, as on KITTI's drive 0013: the i-th car ahead
+  // keeps its centre gap_ahead_m + i * follower_spacing_m ahead of the LiDAR, varied smoothly by
+  // +-gap_variation_m over gap_period_s (behind likewise).
+  int cars_ahead = 0;
+  int cars_behind = 0;
+  double gap_ahead_m = 15.0;
+  double gap_behind_m = 18.0;
+  double follower_spacing_m = 22.0;
+  double gap_variation_m = 3.0;
+  double gap_period_s = 20.0;
+  // Cars in the opposite lane, driving towards the ego car at one speed (so they never close up).
+  double oncoming_cars_per_100m = 0.0;
+  double oncoming_speed_mps = 11.0;
+  // Cyclists by the far kerb of the opposite lane, riding against the ego car's direction.
+  double cyclists_per_100m = 0.0;
+  double cyclist_speed_mps = 5.0;
+  // People walking to and fro along the sidewalks, and people crossing the street ahead of the
+  // ego car when nothing drives through their path.
+  double walkers_per_100m = 0.0;
+  double walker_speed_mps = 1.4;
+  int crossings = 0;
+
+  [[nodiscard]] bool any() const {
+    return cars_ahead > 0 || cars_behind > 0 || oncoming_cars_per_100m > 0 || cyclists_per_100m > 0 ||
+           walkers_per_100m > 0 || crossings > 0;
+  }
+};
+
 struct SimParams {
   int frames = 100;
   SceneParams scene;
   LidarParams lidar;
   CameraParams camera;
   TrajectoryParams trajectory;
+  TrafficParams traffic;
 };
 
 // Named starting points: "street" (100 frames, the default) and "demo" (30 frames).
 Result<SimParams> presetParams(const std::string& name);
+
+// Named traffic: "none" (the default), "street" (cars both ways, ahead of and behind the ego car and
+// oncoming, cyclists, people walking and crossing) and "drive0013" (one car ahead of the ego car and
+// one behind it in its lane, 10-20 m away, as on KITTI's drive 0013; nothing else moves).
+Result<TrafficParams> trafficPreset(const std::string& name);
 
 // JSON text of every setting, and back. Unknown keys and wrong types are errors that name the key;
 // missing keys keep their defaults.

@@ -25,6 +25,7 @@ inline constexpr std::uint16_t kCar = 10;
 inline constexpr std::uint16_t kBicycle = 11;
 inline constexpr std::uint16_t kTruck = 18;
 inline constexpr std::uint16_t kPerson = 30;
+inline constexpr std::uint16_t kBicyclist = 31;  // a bicycle with its rider (movers only)
 inline constexpr std::uint16_t kRoad = 40;
 inline constexpr std::uint16_t kParking = 44;
 inline constexpr std::uint16_t kSidewalk = 48;
@@ -36,6 +37,10 @@ inline constexpr std::uint16_t kTerrain = 72;
 inline constexpr std::uint16_t kPole = 80;
 inline constexpr std::uint16_t kTrafficSign = 81;
 inline constexpr std::uint16_t kOtherObject = 99;  // benches
+// Moving objects, in LiDAR labels only (traffic.hpp); the camera's class image shows the plain class.
+inline constexpr std::uint16_t kMovingCar = 252;
+inline constexpr std::uint16_t kMovingBicyclist = 253;
+inline constexpr std::uint16_t kMovingPerson = 254;
 }  // namespace cls
 
 // What a surface looks like: its procedural albedo texture and LiDAR reflectivity.

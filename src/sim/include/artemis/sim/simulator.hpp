@@ -19,6 +19,7 @@
 #include "artemis/core/transform.hpp"
 #include "artemis/sim/params.hpp"
 #include "artemis/sim/scene.hpp"
+#include "artemis/sim/traffic.hpp"
 
 namespace artemis::sim {
 
@@ -31,8 +32,9 @@ const KittiCalibration& kittiCalibration();
 
 struct LidarScan {
   std::vector<Eigen::Vector4f> points_L;  // x, y, z (m), intensity (0..1)
-  std::vector<std::uint32_t> labels;      // SemanticKITTI: class | instance << 16
-  std::vector<std::uint32_t> faces;       // the scene face each point was reflected by
+  std::vector<std::uint32_t> labels;      // SemanticKITTI: class | instance << 16 (movers: moving ids)
+  std::vector<std::uint32_t> faces;       // the scene face each point was reflected by; kNoFace on a mover
+  static constexpr std::uint32_t kNoFace = 0xFFFFFFFFu;
 };
 
 struct CameraImages {
@@ -60,24 +62,25 @@ class Simulator {
   [[nodiscard]] Isometry3d T_S_W() const { return T_S_W_; }
   [[nodiscard]] double speed_mps(int frame) const;
 
+  // The moving road users (none without traffic) and where they are at a frame's time.
+  [[nodiscard]] const std::vector<Mover>& movers() const { return movers_; }
+  [[nodiscard]] std::vector<Isometry3d> moverPoses(int frame) const;  // T_S_M, one per mover
+
   [[nodiscard]] const PinholeCamera& camera() const { return camera_; }
   [[nodiscard]] const Isometry3d& T_L_C() const { return T_L_C_; }
 
-  // One sweep, taken at the frame's pose (the sweep is instantaneous: no motion distortion).
+  // One sweep, taken at the frame's pose (the sweep is instantaneous: no motion distortion; the
+  // movers stand where they are at the frame's time).
   [[nodiscard]] LidarScan scan(int frame) const;
   // The camera's image and its ground truth at the frame's pose.
   [[nodiscard]] CameraImages render(int frame) const;
 
  private:
-  struct Pose {
-    double x = 0.0;
-    double y = 0.0;
-    double yaw = 0.0;
-  };
-  [[nodiscard]] Pose poseAt(double t_s) const;
+
 
   SimParams params_;
   Scene scene_;
+  std::vector<Mover> movers_;
   PinholeCamera camera_;
   Isometry3d T_L_C_ = Isometry3d::Identity();
   Isometry3d T_S_W_ = Isometry3d::Identity();

@@ -3,18 +3,20 @@
 // synthetic data:
 //
 //   <out>/sequences/00/velodyne/NNNNNN.bin   x y z intensity, float32
-//   <out>/sequences/00/labels/NNNNNN.label   SemanticKITTI: class | instance << 16
+//   <out>/sequences/00/labels/NNNNNN.label   SemanticKITTI: class | instance << 16 (moving ids 252-254
+//                                            on movers)
 //   <out>/sequences/00/image_2/NNNNNN.png    rendered colour
 //   <out>/sequences/00/calib.txt             P0..P3, Tr (KITTI 2011_09_26)
 //   <out>/sequences/00/times.txt
 //   <out>/poses/00.txt                       camera-0 poses, world = first camera-0 pose
-//   <out>/gt/mesh.ply                        scene surface in the world frame (first LiDAR pose):
+//   <out>/gt/mesh.ply                        static surface (no movers) in the world frame (first LiDAR pose):
 //                                            per-vertex albedo (sRGB red green blue), per-face
 //                                            class_id and instance_id
-//   <out>/gt/semantic_2/NNNNNN.png           16-bit class id per pixel (0: sky)
+//   <out>/gt/semantic_2/NNNNNN.png           16-bit class id per pixel (0: sky; movers: their plain class)
 //   <out>/gt/instance_2/NNNNNN.png           16-bit instance id per pixel (0: sky)
 //   <out>/gt/depth_2/NNNNNN.png              16-bit depth along the optical axis, mm (0: none)
-//   <out>/scene.json                         every setting (reproduces the run) and the objects
+//   <out>/scene.json                         every setting (reproduces the run), the objects and
+//                                            the movers (traffic.hpp: their motions)
 //   <out>/preview/NNNNNN_class.png           class image in SemanticKITTI's colours, for the first
 //                                            and the middle frame (to look at; the ids are above)
 //
@@ -22,6 +24,8 @@
 
 #include <filesystem>
 #include <functional>
+#include <map>
+#include <string>
 #include <vector>
 
 #include "artemis/core/status.hpp"
@@ -38,6 +42,7 @@ struct SimReport {
   double street_length_m = 0.0;
   double path_length_m = 0.0;
   std::vector<std::size_t> points_per_frame;
+  std::map<std::string, std::size_t> movers;  // moving road users per kind ("car": 7, ...)
   // Wall time, milliseconds: building the scene once, then per frame.
   double scene_ms = 0.0;
   std::vector<double> lidar_ms, camera_ms, write_ms;
