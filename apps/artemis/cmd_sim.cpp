@@ -31,6 +31,7 @@ struct SimFlags {
   std::optional<double> dropout;
   std::optional<double> azimuth_step_deg;
   std::optional<double> exposure_variation;
+  std::optional<std::string> traffic;
   bool force = false;
   bool json = false;
 };
@@ -66,6 +67,11 @@ Result<sim::SimParams> effectiveParams(const SimFlags& flags) {
   if (flags.dropout) params.lidar.dropout = *flags.dropout;
   if (flags.azimuth_step_deg) params.lidar.azimuth_step_deg = *flags.azimuth_step_deg;
   if (flags.exposure_variation) params.camera.exposure_variation = *flags.exposure_variation;
+  if (flags.traffic) {
+    auto traffic = sim::trafficPreset(*flags.traffic);
+    if (!traffic) return traffic.status();
+    params.traffic = *traffic;
+  }
   if (Status s = sim::validate(params); !s.isOk()) return s;
   return params;
 }
@@ -118,6 +124,7 @@ int runSim(const SimFlags& flags) {
     j["path_length_m"] = r.path_length_m;
     j["triangles"] = r.triangles;
     j["points_per_frame_median"] = median(points);
+    if (!r.movers.empty()) j["movers"] = r.movers;
     nlohmann::ordered_json classes = nlohmann::ordered_json::array();
     for (const auto& c : r.classes) {
       classes.push_back({{"class_id", c.class_id},
@@ -140,6 +147,11 @@ int runSim(const SimFlags& flags) {
   }
   fmt::print("street {:.0f} m, {} triangles; path {:.1f} m over {} frames; {:.0f} LiDAR points per frame (median)\n",
              r.street_length_m, r.triangles, r.path_length_m, params->frames, median(points));
+  if (!r.movers.empty()) {
+    std::string movers;
+    for (const auto& [kind, count] : r.movers) movers += fmt::format("{}{} {}", movers.empty() ? "" : ", ", count, kind);
+    fmt::print("moving: {} (not in gt/mesh.ply; labelled moving-* in the .label files)\n", movers);
+  }
   fmt::print(
       "time: scene {:.0f} ms; per frame (median) LiDAR {:.0f} ms, camera {:.0f} ms, writing {:.0f} ms; "
       "{:.2f} s per frame in all\n",
@@ -172,6 +184,10 @@ void addSimCommand(CLI::App& app, int& exit_code) {
                   "LiDAR azimuth step (deg); 0.18 gives KITTI's ~120k points a scan, 0.09 twice as many");
   cmd->add_option("--exposure-variation", flags->exposure_variation,
                   "Camera exposure varies per frame by up to this fraction");
+  cmd->add_option("--traffic", flags->traffic,
+                  "Moving road users: none (default), street (cars both ways, cyclists, people walking and "
+                  "crossing) or drive0013 (one car ahead and one behind in the ego lane, as on KITTI's drive 0013)")
+      ->check(CLI::IsMember({"none", "street", "drive0013"}));
   cmd->add_flag("--force", flags->force, "Replace a sequence already in the output folder");
   cmd->add_flag("--json", flags->json, "Print the class table and timings as one JSON object");
   cmd->callback([flags, &exit_code] { exit_code = runSim(*flags); });
