@@ -187,9 +187,21 @@ class Planner {
 
   // A person who waits on one sidewalk and crosses the street ahead of the ego car, in a gap of the
   // traffic (none found in 300 draws: no crossing).
+  // Whether crossing `m` is on the road at some frame while 8-60 m ahead of the ego car (in view).
+  [[nodiscard]] bool crossesInView(const Mover& m) const {
+    const double frame_s = 1.0 / p_.trajectory.frame_rate_hz;
+    for (double t = 0.0; t <= duration_s_ + 1e-9; t += frame_s) {
+      const Eigen::Vector3d c = moverPose(m, p_, street_.length_m, t).translation();
+      const double ahead = c.x() - egoAt(t).translation().x();
+      if (std::abs(c.y()) < p_.scene.lane_width_m && ahead > 8.0 && ahead < 60.0) return true;
+    }
+    return false;
+  }
+
+  // The first 300 draws must cross in view of the camera, the next 300 anywhere.
   void crossing() {
     Mover m = make("person");
-    for (int attempt = 0; attempt < 300; ++attempt) {
+    for (int attempt = 0; attempt < 600; ++attempt) {
       // Under way when the drive starts, or starting later; anywhere from behind the ego car to far
       // ahead of it: the traffic decides where it can cross.
       const double t0 = rng_.uniform(-8.0, std::max(0.0, duration_s_ - 2.0));
@@ -207,7 +219,7 @@ class Planner {
       m.motion.t0_s = t0;
       const double walk_s = 2.0 * y_out / m.motion.speed_mps;
       if (!clearOfObstacles(box(x - 0.2, x + 0.2, -y_out - 0.3, y_out + 0.3), 0.1) ||
-          !clearOver(m, t0 - 0.5, t0 + walk_s + 0.5, 1.0, 0.5)) {
+          (attempt < 300 && !crossesInView(m)) || !clearOver(m, t0 - 0.5, t0 + walk_s + 0.5, 1.0, 0.5)) {
         continue;
       }
       crossing_x_.push_back(x);

@@ -125,6 +125,17 @@ TEST(SimTraffic, StreetMixHasCarsBothWaysCyclistsAndPeople) {
   EXPECT_GE(kinds["cyclist"], 2);
   EXPECT_GE(motions[MotionKind::kPace], 5);
   EXPECT_GE(motions[MotionKind::kCross], 1);
+  // Someone crosses the road in view, 8-60 m ahead of the ego car.
+  bool crossing_in_view = false;
+  for (int frame = 0; frame < sim.frames() && !crossing_in_view; ++frame) {
+    const std::vector<Isometry3d> T_S_M = sim.moverPoses(frame);
+    for (std::size_t i = 0; i < T_S_M.size(); ++i) {
+      const Eigen::Vector3d c_L = sim.T_S_L(frame).inverse() * T_S_M[i].translation();
+      crossing_in_view |= sim.movers()[i].motion.kind == MotionKind::kCross && c_L.x() > 8.0 && c_L.x() < 60.0 &&
+                          std::abs(T_S_M[i].translation().y()) < sim.params().scene.lane_width_m;
+    }
+  }
+  EXPECT_TRUE(crossing_in_view);
   // Every moving label shows up in a scan.
   std::map<std::uint32_t, std::size_t> labels;
   for (int frame : {0, 50}) {
