@@ -5,6 +5,8 @@
 #include <cmath>
 #include <map>
 
+#include <tbb/task_arena.h>
+
 #include "artemis/datasets/semantic_kitti.hpp"
 #include "artemis/sim/simulator.hpp"
 #include "artemis/sim/traffic.hpp"
@@ -69,6 +71,18 @@ TEST(SimTraffic, Drive0013HasOneCarAheadAndOneBehindInTheEgoLane) {
       EXPECT_GT(on_car, 300u) << "frame " << frame << " mover " << k;
     }
   }
+}
+
+TEST(SimTraffic, SameSettingsSameFramesOnAnyThreadCount) {
+  const Simulator& a = drive0013();
+  const Simulator b(a.params());  // planned again from the same seed
+  LidarScan one;
+  tbb::task_arena one_thread(1);
+  one_thread.execute([&] { one = b.scan(7); });
+  const LidarScan many = a.scan(7);
+  ASSERT_EQ(one.points_L.size(), many.points_L.size());
+  EXPECT_EQ(one.labels, many.labels);
+  for (std::size_t i = 0; i < one.points_L.size(); ++i) ASSERT_EQ(one.points_L[i], many.points_L[i]) << i;
 }
 
 TEST(SimTraffic, MovingLabelsReadAsTheirClassesAndCountAsMoving) {
