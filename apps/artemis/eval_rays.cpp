@@ -118,7 +118,7 @@ Json blockedJson(const eval::RayTally& t, const eval::RayConsistencyParams& p) {
 }
 
 void printTable(const eval::RayTally& t, std::size_t frames, const RayEvalFlags& flags) {
-  fmt::print("ray consistency of {}: {} rays from {} frames (every {}th, {} returns each, {}-{} m)\n",
+  fmt::print("ray consistency of {}: {} rays from {} frames (one in {}, {} returns each, {}-{} m)\n",
              (fs::path(flags.run) / "mesh.ply").string(), t.all.total(), frames, flags.every, flags.returns,
              flags.min_range_m, flags.max_range_m);
   fmt::print("{:<10} {:>9} {:>10}   {:>14}\n", "", "share", "rays", "ground returns");

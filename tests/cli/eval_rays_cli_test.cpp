@@ -1,0 +1,137 @@
+// artemis eval rays as a user runs it, on three frames of the demo street simulated with the CLI:
+// the run's own mesh (rays.json written into the run, per-frame figures that add up), the
+// simulator's ground-truth surface as the mesh (every return is "surface"), the same surface
+// lifted by 0.5 m (the road now blocks the road's returns), and bad inputs that must be clear
+// errors naming the file.
+
+#include <gtest/gtest.h>
+
+#include <filesystem>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <string>
+
+#include "artemis/io/ply.hpp"
+#include "cli_run.hpp"
+#include "support/test_support.hpp"
+
+namespace artemis {
+namespace {
+
+namespace fs = std::filesystem;
+
+nlohmann::json readJson(const fs::path& path) {
+  std::ifstream in(path);
+  return nlohmann::json::parse(in);
+}
+
+// One simulated street and one run of it, shared by the tests (a few seconds to make).
+class CliEvalRays : public ::testing::Test {
+ protected:
+  static void SetUpTestSuite() {
+    tmp_ = new test::TempDir();
+    const auto sim = test::runCli("sim --preset demo --frames 3 --azimuth-step 0.72 --out " + (*tmp_ / "sim").string());
+    ASSERT_EQ(sim.exit_code, 0) << sim.err;
+    const auto run = test::runCli("run " + (*tmp_ / "sim").string() + " --texture off --out " + runDir().string());
+    ASSERT_EQ(run.exit_code, 0) << run.err;
+  }
+  static void TearDownTestSuite() {
+    delete tmp_;
+    tmp_ = nullptr;
+  }
+  static fs::path runDir() { return *tmp_ / "run"; }
+  static fs::path truthMesh() { return *tmp_ / "sim" / "gt" / "mesh.ply"; }
+
+  // A run folder holding `mesh` with the run's poses and recording.
+  static fs::path runWithMesh(const std::string& name, const fs::path& mesh) {
+    const fs::path dir = *tmp_ / name;
+    fs::create_directories(dir);
+    for (const char* file : {"config.json", "trajectory.txt"}) {
+      fs::copy_file(runDir() / file, dir / file, fs::copy_options::overwrite_existing);
+    }
+    fs::copy_file(mesh, dir / "mesh.ply", fs::copy_options::overwrite_existing);
+    return dir;
+  }
+
+  static test::TempDir* tmp_;
+};
+
+test::TempDir* CliEvalRays::tmp_ = nullptr;
+
+TEST_F(CliEvalRays, RunMeshFiguresAddUp) {
+  const auto r = test::runCli("eval rays " + runDir().string() + " --every 2 --returns 3000");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("surface"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("blocked"), std::string::npos) << r.out;
+  const auto j = readJson(runDir() / "rays.json");
+  EXPECT_EQ(j["settings"]["every"], 2);
+  EXPECT_EQ(j["settings"]["returns_per_frame"], 3000);
+  EXPECT_EQ(j["settings"]["min_range_m"], 2.0);
+  EXPECT_EQ(j["settings"]["max_range_m"], 70.0);
+  ASSERT_EQ(j["frames"].size(), 2U);  // frames 0 and 2 of 0..2
+  EXPECT_EQ(j["frames"][0]["frame"], 0);
+  EXPECT_EQ(j["frames"][1]["frame"], 2);
+  EXPECT_EQ(j["counts"]["rays"], 6000);
+  std::size_t surface = 0;
+  for (const auto& f : j["frames"]) surface += f["counts"]["surface"].get<std::size_t>();
+  EXPECT_EQ(surface, j["counts"]["surface"].get<std::size_t>());
+  const auto& s = j["shares"];
+  EXPECT_NEAR(s["surface"].get<double>() + s["blocked"].get<double>() + s["hole"].get<double>(), 1.0, 1e-12);
+  // The mapper's mesh of a clean simulated street: mostly consistent, hardly blocked.
+  EXPECT_GT(s["surface"].get<double>(), 0.75);
+  EXPECT_LT(s["blocked"].get<double>(), 0.02);
+  EXPECT_EQ(j["blocked"]["rays"], j["counts"]["blocked"]);
+}
+
+TEST_F(CliEvalRays, TruthIsSurfaceAndLiftedTruthBlocksTheRoad) {
+  const fs::path truth = runWithMesh("truth", truthMesh());
+  const auto r = test::runCli("eval rays " + truth.string() + " --every 1 --returns 2000 --json " +
+                              (*tmp_ / "truth.json").string());
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  const auto j = readJson(*tmp_ / "truth.json");
+  EXPECT_EQ(j["counts"]["rays"], 6000);
+  EXPECT_GE(j["shares"]["surface"].get<double>(), 0.999);  // 2 cm range noise against a 10 cm tolerance
+  EXPECT_EQ(j["counts"]["blocked"], 0);
+  EXPECT_FALSE(fs::exists(truth / "rays.json"));  // --json replaces the default place
+
+  // The same surface 0.5 m higher: the road's returns now lie under the road.
+  auto ply = io::readPly(truthMesh());
+  ASSERT_TRUE(ply.isOk()) << ply.status().toString();
+  auto z = ply->scalarAs<float>("vertex", "z");
+  ASSERT_TRUE(z.isOk());
+  for (float& v : *z) v += 0.5F;
+  ASSERT_TRUE(ply->setScalar<float>("vertex", "z", *z).isOk());
+  ASSERT_TRUE(io::writePly(*tmp_ / "lifted.ply", *ply).isOk());
+  const fs::path lifted = runWithMesh("lifted", *tmp_ / "lifted.ply");
+  ASSERT_EQ(test::runCli("eval rays " + lifted.string() + " --every 1 --returns 2000").exit_code, 0);
+  const auto k = readJson(lifted / "rays.json");
+  EXPECT_GT(k["ground_returns"]["shares"]["blocked"].get<double>(), 0.9);
+  EXPECT_GT(k["blocked"]["ground_share"].get<double>(), 0.8);
+  EXPECT_GT(k["blocked"]["horizontal_face_share"].get<double>(), 0.8);
+  EXPECT_GT(k["blocked"]["median_gap_m"].get<double>(), 0.5);  // 0.5 m under a road seen from 1.73 m
+}
+
+TEST_F(CliEvalRays, ErrorsNameTheFile) {
+  const fs::path broken = runWithMesh("broken", truthMesh());
+  fs::remove(broken / "trajectory.txt");
+  auto r = test::runCli("eval rays " + broken.string());
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find((broken / "trajectory.txt").string()), std::string::npos) << r.err;
+
+  fs::remove(broken / "mesh.ply");
+  r = test::runCli("eval rays " + broken.string());
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find((broken / "mesh.ply").string()), std::string::npos) << r.err;
+
+  const fs::path elsewhere = runWithMesh("elsewhere", truthMesh());
+  r = test::runCli("eval rays " + elsewhere.string() + " --dataset " + (*tmp_ / "no_such_recording").string());
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("no_such_recording"), std::string::npos) << r.err;
+
+  r = test::runCli("eval rays " + elsewhere.string() + " --max-range 1");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("--max-range"), std::string::npos) << r.err;
+}
+
+}  // namespace
+}  // namespace artemis
