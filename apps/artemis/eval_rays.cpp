@@ -74,6 +74,12 @@ Result<RunScans> openRunScans(const RayEvalFlags& flags) {
   const std::string path = flags.dataset.empty() ? recording->path : flags.dataset;
   if (path.empty()) return parseError(fmt::format("{}: no dataset.path; give --dataset", (run / "config.json").string()));
   auto dataset = datasets::openDataset(path, datasets::DatasetFormat::kAuto, options);
+  if (!dataset && flags.dataset.empty()) {
+    return Status(dataset.status().code(),
+                  fmt::format("{} (the recording named in {}; a relative path is taken from the current folder; "
+                              "give --dataset)",
+                              dataset.status().message(), (run / "config.json").string()));
+  }
   if (!dataset) return dataset.status();
   if (trajectory->size() != (*dataset)->size()) {
     return invalidArgument(fmt::format("{}: {} poses for the {} frames of {}", (run / "trajectory.txt").string(),
