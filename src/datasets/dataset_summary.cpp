@@ -58,7 +58,8 @@ DatasetSummary summarizeDataset(const Dataset& dataset, const ProgressFn& progre
   return s;
 }
 
-AggregatedCloud aggregateScans(const Dataset& dataset, double voxel_size_m, const ProgressFn& progress) {
+AggregatedCloud aggregateScans(const Dataset& dataset, double voxel_size_m, const ProgressFn& progress,
+                               const ScanFilterFn& filter) {
   AggregatedCloud out;
   VoxelAccumulator acc(voxel_size_m);
   for (std::size_t i = 0; i < dataset.size(); ++i) {
@@ -68,6 +69,11 @@ AggregatedCloud aggregateScans(const Dataset& dataset, double voxel_size_m, cons
       out.errors.push_back(frame.status().message());
       log::warn("skipping frame {}: {}", dataset.firstIndex() + i, frame.status().message());
       continue;
+    }
+    if (filter) {
+      const std::size_t before = frame->points_L.size();
+      filter(i, frame->points_L);
+      out.points_removed += before - std::min(before, frame->points_L.size());
     }
     acc.add(frame->points_L, frame->T_W_L);
     out.points_in += frame->points_L.size();

@@ -43,12 +43,19 @@ DatasetSummary summarizeDataset(const Dataset& dataset, const ProgressFn& progre
 struct AggregatedCloud {
   PointCloud cloud_W;  // world frame, voxel-downsampled
   std::size_t frames_used = 0;
-  std::size_t points_in = 0;  // range-gated points before downsampling
+  std::size_t points_in = 0;       // range-gated points before downsampling (after the scan filter)
+  std::size_t points_removed = 0;  // range-gated points the scan filter took out
   std::vector<std::string> errors;
 };
 
+// Called with each frame's index in the range (0 <= i < size()) and its range-gated points in its
+// LiDAR frame before they are aggregated; it may remove points (e.g. those of moving objects).
+using ScanFilterFn = std::function<void(std::size_t, PointCloud&)>;
+
 // All range-gated scans of the range moved into the world frame with their poses and
-// voxel-downsampled (centroid per voxel): the reference cloud for geometric evaluation.
-AggregatedCloud aggregateScans(const Dataset& dataset, double voxel_size_m, const ProgressFn& progress = {});
+// voxel-downsampled (centroid per voxel): the reference cloud for geometric evaluation. `filter`,
+// when given, sees each scan first.
+AggregatedCloud aggregateScans(const Dataset& dataset, double voxel_size_m, const ProgressFn& progress = {},
+                               const ScanFilterFn& filter = {});
 
 }  // namespace artemis::datasets
