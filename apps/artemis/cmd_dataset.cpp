@@ -1,13 +1,20 @@
 // artemis dataset info | export-cloud
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <map>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
+#include <set>
 
 #include "artemis/core/log.hpp"
 #include "artemis/core/timer.hpp"
 #include "artemis/datasets/dataset_summary.hpp"
+#include "artemis/datasets/kitti_boxes.hpp"
+#include "artemis/datasets/kitti_raw.hpp"
 #include "artemis/io/ply.hpp"
+#include "box_exclusion.hpp"
 #include "commands.hpp"
 #include "dataset_flags.hpp"
 #include "progress.hpp"
@@ -24,6 +31,9 @@ struct ExportFlags {
   DatasetFlags dataset;
   double voxel_m = 0.05;
   std::string output;
+  std::string exclude_boxes;   // KITTI tracking labels
+  std::string exclude_tracks;  // "0,1" or "all"
+  BoxExclusionParams exclusion;
 };
 
 nlohmann::ordered_json toJson(const datasets::DatasetSummary& s) {
@@ -84,6 +94,63 @@ int runInfo(const InfoFlags& flags) {
   return summary.frames_failed == summary.frames ? 1 : 0;
 }
 
+// --exclude-boxes: the grown boxes of the listed tracks in each frame of the range, and what they took.
+struct Exclusion {
+  std::set<int> tracks;
+  std::vector<std::vector<ExclusionBox>> boxes_L;         // one list per frame of the range
+  std::map<int, std::vector<std::size_t>> dropped_by_frame;  // track -> points dropped in each frame
+};
+
+Result<Exclusion> prepareExclusion(const ExportFlags& flags, const datasets::Dataset& d) {
+  if (d.format() != "kitti-raw") {
+    return invalidArgument(fmt::format(
+        "{}: a {} recording; --exclude-boxes needs KITTI raw (its calibration R_rect_00 * T_cam0_velo places the "
+        "boxes)",
+        d.root().string(), d.format()));
+  }
+  auto labels = datasets::readKittiBoxes(flags.exclude_boxes);
+  if (!labels) return labels.status();
+  auto tracks = parseTrackList(flags.exclude_tracks, *labels);
+  if (!tracks) return Status(tracks.status().code(), "--exclude-tracks: " + tracks.status().message());
+  auto T_R0_L = datasets::readKittiRawRectifiedFromLidar(d.root());
+  if (!T_R0_L) return T_R0_L.status();
+  std::vector<Isometry3d> T_W_L;
+  for (std::size_t i = 0; i < d.size(); ++i) T_W_L.push_back(d.pose(i));
+  auto boxes = placeExclusionBoxes(*labels, *tracks, T_R0_L->inverse(), T_W_L, d.firstIndex(), flags.exclusion);
+  if (!boxes) return Status(boxes.status().code(), flags.exclude_boxes + ": " + boxes.status().message());
+  Exclusion out;
+  out.tracks = std::move(*tracks);
+  out.boxes_L = std::move(*boxes);
+  for (int id : out.tracks) out.dropped_by_frame[id].assign(d.size(), 0);
+  return out;
+}
+
+void reportExclusion(const Exclusion& ex, const datasets::Dataset& d, const ExportFlags& flags) {
+  fmt::print("left out: points inside the boxes of tracks {} of {} (label frame + {}, and {} frame(s) either side; "
+             "grown {} m at either end, {} m at the sides and on top; only where the camera's labels cover them)\n",
+             flags.exclude_tracks, flags.exclude_boxes, flags.exclusion.frame_offset,
+             flags.exclusion.neighbour_frames, flags.exclusion.length_padding_m, flags.exclusion.side_padding_m);
+  for (const auto& [id, per_frame] : ex.dropped_by_frame) {
+    std::vector<std::size_t> hit;
+    std::optional<std::size_t> first, last;
+    for (std::size_t i = 0; i < per_frame.size(); ++i) {
+      if (per_frame[i] == 0) continue;
+      hit.push_back(per_frame[i]);
+      if (!first) first = d.firstIndex() + i;
+      last = d.firstIndex() + i;
+    }
+    std::size_t total = 0;
+    for (std::size_t n : hit) total += n;
+    if (hit.empty()) {
+      fmt::print("  track {:>3}: 0 points (no box of it inside any scan's points in these frames)\n", id);
+      continue;
+    }
+    std::sort(hit.begin(), hit.end());
+    fmt::print("  track {:>3}: {} points from {} frames ({}-{}), per frame median {} max {}\n", id, total, hit.size(),
+               *first, *last, hit[hit.size() / 2], hit.back());
+  }
+}
+
 int runExportCloud(const ExportFlags& flags) {
   auto dataset = flags.dataset.open(/*load_images=*/false);
   if (!dataset) {
@@ -94,10 +161,26 @@ int runExportCloud(const ExportFlags& flags) {
     log::error("--voxel must be > 0 (got {})", flags.voxel_m);
     return 1;
   }
+  std::optional<Exclusion> exclusion;
+  if (!flags.exclude_boxes.empty()) {
+    auto prepared = prepareExclusion(flags, **dataset);
+    if (!prepared) {
+      log::error("{}", prepared.status().message());
+      return 1;
+    }
+    exclusion = std::move(*prepared);
+  }
+  const auto dropBoxed = [&](std::size_t i, PointCloud& points_L) {
+    for (const auto& [id, n] : dropPointsInBoxes(points_L, exclusion->boxes_L[i])) {
+      exclusion->dropped_by_frame[id][i] = n;
+      log::debug("frame {}: {} points of track {} left out", (*dataset)->firstIndex() + i, n, id);
+    }
+  };
   Stopwatch clock;
   ProgressLine progress("aggregating", "frames");
-  const auto result =
-      datasets::aggregateScans(**dataset, flags.voxel_m, [&](std::size_t d, std::size_t t) { progress.update(d, t); });
+  const auto result = datasets::aggregateScans(
+      **dataset, flags.voxel_m, [&](std::size_t d, std::size_t t) { progress.update(d, t); },
+      exclusion ? datasets::ScanFilterFn(dropBoxed) : datasets::ScanFilterFn());
   progress.finish();
   if (result.frames_used == 0) {
     log::error("no frame could be read; nothing written");
@@ -117,6 +200,11 @@ int runExportCloud(const ExportFlags& flags) {
                                      (*dataset)->format(), (*dataset)->options().frames.toString(),
                                      (*dataset)->root().string(), flags.voxel_m, flags.dataset.min_range_m,
                                      flags.dataset.max_range_m));
+  if (exclusion) {
+    ply.comments.push_back(fmt::format("left out: {} points in the boxes of tracks {} of {} (label frame + {})",
+                                       result.points_removed, flags.exclude_tracks, flags.exclude_boxes,
+                                       flags.exclusion.frame_offset));
+  }
   Status s = ply.setScalar("vertex", "x", std::move(x));
   if (s.isOk()) s = ply.setScalar("vertex", "y", std::move(y));
   if (s.isOk()) s = ply.setScalar("vertex", "z", std::move(z));
@@ -126,8 +214,10 @@ int runExportCloud(const ExportFlags& flags) {
     log::error("{}", s.message());
     return 1;
   }
-  log::info("{}: {} points from {} frames ({} points before the {} m voxel grid), {:.1f} s", flags.output, cloud.size(),
-            result.frames_used, result.points_in, flags.voxel_m, clock.elapsedS());
+  log::info("{}: {} points from {} frames ({} points before the {} m voxel grid{}), {:.1f} s", flags.output,
+            cloud.size(), result.frames_used, result.points_in, flags.voxel_m,
+            exclusion ? fmt::format(", {} more left out in boxes", result.points_removed) : "", clock.elapsedS());
+  if (exclusion) reportExclusion(*exclusion, **dataset, flags);
   if (!result.errors.empty()) log::warn("{} frames skipped (see above)", result.errors.size());
   return 0;
 }
@@ -153,6 +243,31 @@ void addDatasetCommands(CLI::App& app, int& exit_code) {
   export_flags->dataset.addTo(*exp, /*with_poses=*/true);
   exp->add_option("--voxel", export_flags->voxel_m, "Voxel size of the downsampling (m)")->capture_default_str();
   exp->add_option("-o,--output", export_flags->output, "Output PLY file")->required();
+  auto* boxes = exp->add_option(
+      "--exclude-boxes", export_flags->exclude_boxes,
+      "Leave out the points of labelled objects (e.g. the cars driving through the recording): a KITTI tracking "
+      "label file (label_02 format, boxes in rectified camera-0 coordinates; KITTI raw only). Each scan loses its "
+      "points inside the grown boxes of the --exclude-tracks at that frame and its neighbours. Only what the labels "
+      "cover is left out: KITTI labels only what camera 2 sees, so an object's points outside the camera's view, "
+      "or in frames where it has no box, stay in the cloud");
+  auto* tracks = exp->add_option("--exclude-tracks", export_flags->exclude_tracks,
+                                 "--exclude-boxes: the track ids to leave out, comma-separated (0,1), or 'all' "
+                                 "(parked cars too); required with --exclude-boxes");
+  boxes->needs(tracks);
+  tracks->needs(boxes);
+  exp->add_option("--box-frame-offset", export_flags->exclusion.frame_offset,
+                  "--exclude-boxes: the boxes of label frame f belong to recording frame f + K")
+      ->capture_default_str();
+  exp->add_option("--box-neighbours", export_flags->exclusion.neighbour_frames,
+                  "--exclude-boxes: a scan also loses the points in the track's boxes of up to this many frames "
+                  "before and after it (moving cars fit their boxes about a frame late)")
+      ->capture_default_str();
+  exp->add_option("--box-padding", export_flags->exclusion.length_padding_m,
+                  fmt::format("--exclude-boxes: grow each box by this at either end of its length (m); it also "
+                              "grows by {} m at the sides and on top, never below (the road under a car stays)",
+                              BoxExclusionParams{}.side_padding_m))
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
   exp->callback([export_flags, &exit_code] { exit_code = runExportCloud(*export_flags); });
 }
 
