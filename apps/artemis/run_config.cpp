@@ -84,6 +84,14 @@ nlohmann::ordered_json configJson(const RunFlags& f, const std::string& dataset_
             {"max_offset_m", m.constraint.max_offset_m},
             {"cut_similarity", m.constraint.cut_similarity},
             {"cut_depth_gap_m", m.constraint.cut_depth_gap_m}}},
+          {"free_space",
+           {{"on", m.free_space.enabled},
+            {"max_range_m", m.free_space.max_range_m},
+            {"lateral_m", m.free_space.lateral_m},
+            {"margin_m", m.free_space.margin_m},
+            {"confirm_hits", m.free_space.confirm_hits},
+            {"min_misses", m.free_space.min_misses},
+            {"misses_per_hit", m.free_space.misses_per_hit}}},
           {"vehicle_box_m",
            m.vehicle_box_L.isEmpty()
                ? nlohmann::json(nullptr)

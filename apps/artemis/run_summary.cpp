@@ -33,6 +33,11 @@ void printRunSummary(const RunFlags& flags, const pipeline::RunReport& report_va
     fmt::print("{} returns inside the vehicle's path dropped (something following it, or the rig itself)\n",
                report->points_in_vehicle_path);
   }
+  if (!report->times.samples("carve").empty()) {
+    const auto carve = report->times.summary("carve");
+    fmt::print("free space per frame (median / p95 ms) {:.1f} / {:.1f}; {} points seen through and removed\n",
+               carve.median_ms, carve.p95_ms, report->points_carved);
+  }
   if (!report->times.samples("constrain").empty()) {
     const auto constrain = report->times.summary("constrain");
     fmt::print("semantic constraint per frame (median / p95 ms) {:.1f} / {:.1f}; {} faces cut\n", constrain.median_ms,

@@ -138,6 +138,7 @@ VoxelMeshResult IncrementalMesher::meshVoxel(const VoxelMap& map, const Semantic
     result.faces.push_back(cos_plane > 0.0 ? Face{a, b, c} : Face{a, c, b});
   }
   result.normal = normal.cast<float>();
+  result.planar = planar;
   return result;
 }
 

@@ -6,6 +6,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <iterator>
+#include <unordered_set>
 
 #include "artemis/core/timer.hpp"
 
@@ -52,6 +54,7 @@ Mapper::Mapper(const MapperParams& params)
       refinement_(params.refinement, params.semantics.background_score, params.semantics.geometry),
       constraint_(params.constraint, params.semantics.confidence_lambda),
       swept_(params.vehicle_box_L),
+      carver_(params.free_space, params.vehicle_box_L),
       arena_(std::make_unique<Arena>(params.threads)) {
   mesh_.setVoxelPrior(static_cast<float>(params.semantics.voxel_prior));
   mesh_.setStageOneWeight(static_cast<float>(params.refinement.stage_one_weight));
@@ -96,6 +99,13 @@ FrameStats Mapper::integrate(const PointCloud& points_L, const Isometry3d& T_W_L
   stats.points_kept = mesh_.vertexCount() - vertices_before;
   stats.active_voxels = active.size();
   stats.insert_ms = clock.elapsedMs();
+  clock.reset();
+  CarveStats carved;
+  arena_->arena.execute([&] { carved = carver_.carve(points_L.points, T_W_L, map_, active); });
+  dropCarvedFaces(carved);
+  stats.carve_ms = clock.elapsedMs();
+  stats.points_carved = carved.vertices.size();
+  stats.points_tested_free = carved.points_tested;
 
   if (fuse) {
     FusionStats f;
@@ -123,6 +133,33 @@ FrameStats Mapper::integrate(const PointCloud& points_L, const Isometry3d& T_W_L
   stats.meshed_voxels = meshVoxels(due, &stats);
   stats.mesh_ms = clock.elapsedMs() - stats.constrain_ms;
   return stats;
+}
+
+void Mapper::dropCarvedFaces(const CarveStats& carved) {
+  if (carved.vertices.empty()) return;
+  const std::unordered_set<std::uint32_t> removed(carved.vertices.begin(), carved.vertices.end());
+  std::unordered_set<VoxelKey, VoxelKeyHash> seen;
+  for (const std::uint32_t index : carved.voxels) {
+    const VoxelKey key = map_.keyAt(index);
+    for (int dx = -1; dx <= 1; ++dx) {
+      for (int dy = -1; dy <= 1; ++dy) {
+        for (int dz = -1; dz <= 1; ++dz) {
+          const VoxelKey n{key.x + dx, key.y + dy, key.z + dz};
+          const std::vector<Face>* faces = mesh_.voxelFaces(n);
+          if (faces == nullptr || !seen.insert(n).second) continue;
+          const auto uses = [&](const Face& f) {
+            return removed.contains(f[0]) || removed.contains(f[1]) || removed.contains(f[2]);
+          };
+          if (std::none_of(faces->begin(), faces->end(), uses)) continue;
+          std::vector<Face> kept;
+          kept.reserve(faces->size());
+          std::copy_if(faces->begin(), faces->end(), std::back_inserter(kept), [&](const Face& f) { return !uses(f); });
+          mesh_.setVoxelFaces(n, std::move(kept));
+          if (Voxel* owner = map_.find(n)) owner->carved_frame = map_.frame();
+        }
+      }
+    }
+  }
 }
 
 FusionStats Mapper::fuseLate(const PointCloud& points_L, const Isometry3d& T_W_L, const SemanticInput& semantic) {
@@ -153,7 +190,7 @@ std::size_t Mapper::finish() {
   std::vector<VoxelKey> pending;
   for (const VoxelKey& key : map_.keys()) {
     const Voxel& v = *map_.find(key);
-    bool stale = v.vertices.size() > v.points_when_meshed;
+    bool stale = v.vertices.size() > v.points_when_meshed || v.carved_frame > v.meshed_frame;
     for (int dx = -1; dx <= 1 && !stale; ++dx) {
       for (int dy = -1; dy <= 1 && !stale; ++dy) {
         for (int dz = -1; dz <= 1 && !stale; ++dz) {
@@ -196,6 +233,8 @@ std::size_t Mapper::meshVoxels(const std::vector<VoxelKey>& keys, FrameStats* st
     Voxel& v = *map_.find(r.key);
     v.points_when_meshed = static_cast<std::uint32_t>(v.vertices.size());
     v.meshed_frame = map_.frame();
+    v.plane_normal = r.planar ? r.normal : Eigen::Vector3f::Zero();
+    v.plane_points = v.points_when_meshed;
     if (r.normal != Eigen::Vector3f::Zero()) {
       for (std::uint32_t id : v.vertices) mesh_.setNormal(id, r.normal);
     }

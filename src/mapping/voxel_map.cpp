@@ -114,14 +114,21 @@ std::vector<VoxelKey> VoxelMap::insert(const std::vector<Eigen::Vector3f>& point
     }
     q.voxel = last_index;
     Voxel& v = voxels_[last_index];
+    v.hit_frame = frame_;
     const std::uint64_t mask = std::uint64_t{1} << (q.sub_cell & 63);
     std::uint64_t& word = v.occupied[static_cast<std::size_t>(q.sub_cell >> 6)];
-    if ((word & mask) != 0) continue;  // a point already holds this sub-cell
+    if ((word & mask) != 0) {  // a point already holds this sub-cell: count the frame as a hit
+      countHit(v, static_cast<std::uint16_t>(q.sub_cell));
+      continue;
+    }
     word |= mask;
     const Eigen::Vector3f& p = points_W[i];
     v.vertices.push_back(mesh.addVertex(p, q.key, (sensor_W - p).normalized(), last_index));
     v.points.push_back(p);
     v.sub_cells.push_back(static_cast<std::uint16_t>(q.sub_cell));
+    v.hits.push_back(1);
+    v.misses.push_back(0);
+    v.last_hit.push_back(frame_);
     v.lo = v.lo.cwiseMin(p);
     v.hi = v.hi.cwiseMax(p);
     if (v.active_frame != frame_) {
@@ -130,6 +137,64 @@ std::vector<VoxelKey> VoxelMap::insert(const std::vector<Eigen::Vector3f>& point
     }
   }
   return active;
+}
+
+void VoxelMap::countHit(Voxel& v, std::uint16_t sub_cell) const {
+  // Successive returns of a scan mostly fall in the sub-cell of the one before.
+  std::size_t j = v.sub_cells.size();
+  while (j > 0 && v.sub_cells[j - 1] != sub_cell) --j;
+  if (j == 0) return;
+  --j;
+  if (v.last_hit[j] == frame_) return;
+  v.last_hit[j] = frame_;
+  if (v.hits[j] < 255) ++v.hits[j];
+}
+
+void VoxelMap::removePoints(std::uint32_t index, const std::vector<std::uint8_t>& remove,
+                            std::vector<std::uint32_t>& removed) {
+  Voxel& v = voxels_[index];
+  if (remove.size() != v.points.size()) {
+    throw std::invalid_argument("VoxelMap::removePoints: " + std::to_string(remove.size()) + " flags for " +
+                                std::to_string(v.points.size()) + " points");
+  }
+  std::size_t kept = 0;
+  v.lo = Eigen::Vector3f::Constant(std::numeric_limits<float>::max());
+  v.hi = Eigen::Vector3f::Constant(std::numeric_limits<float>::lowest());
+  for (std::size_t j = 0; j < v.points.size(); ++j) {
+    if (remove[j] != 0) {
+      const std::uint16_t s = v.sub_cells[j];
+      v.occupied[s >> 6] &= ~(std::uint64_t{1} << (s & 63));
+      removed.push_back(v.vertices[j]);
+      continue;
+    }
+    v.vertices[kept] = v.vertices[j];
+    v.points[kept] = v.points[j];
+    v.sub_cells[kept] = v.sub_cells[j];
+    v.hits[kept] = v.hits[j];
+    v.misses[kept] = v.misses[j];
+    v.last_hit[kept] = v.last_hit[j];
+    v.lo = v.lo.cwiseMin(v.points[j]);
+    v.hi = v.hi.cwiseMax(v.points[j]);
+    ++kept;
+  }
+  v.vertices.resize(kept);
+  v.points.resize(kept);
+  v.sub_cells.resize(kept);
+  v.hits.resize(kept);
+  v.misses.resize(kept);
+  v.last_hit.resize(kept);
+  v.points_when_meshed = std::min(v.points_when_meshed, static_cast<std::uint32_t>(kept));
+}
+
+std::uint32_t VoxelMap::indexOf(const VoxelKey& key) const {
+  std::size_t slot = slotOf(key);
+  const std::size_t mask = table_.size() - 1;
+  while (table_[slot] != 0) {
+    const std::uint32_t index = table_[slot] - 1;
+    if (keys_[index] == key) return index;
+    slot = (slot + 1) & mask;
+  }
+  return kNoVertex;
 }
 
 int VoxelMap::subCellOf(const Eigen::Vector3f& p, const VoxelKey& key) const {
@@ -161,14 +226,8 @@ std::uint32_t VoxelMap::vertexAt(const Eigen::Vector3f& p_W) const {
 }
 
 const Voxel* VoxelMap::find(const VoxelKey& key) const {
-  std::size_t slot = slotOf(key);
-  const std::size_t mask = table_.size() - 1;
-  while (table_[slot] != 0) {
-    const std::uint32_t index = table_[slot] - 1;
-    if (keys_[index] == key) return &voxels_[index];
-    slot = (slot + 1) & mask;
-  }
-  return nullptr;
+  const std::uint32_t index = indexOf(key);
+  return index == kNoVertex ? nullptr : &voxels_[index];
 }
 
 Voxel* VoxelMap::find(const VoxelKey& key) {

@@ -239,11 +239,13 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
         mapper.integrate(frame->points_L, T_W_L, observation.observed ? &semantic_input : nullptr);
     report.times.add("read", read_ms);
     report.times.add("insert", stats.insert_ms);
+    if (params.mapper.free_space.enabled) report.times.add("carve", stats.carve_ms);
     if (semantic && !live) report.times.add("fuse", stats.fuse_ms);
     report.times.add("mesh", stats.mesh_ms);
     if (params.mapper.constraint.enabled) report.times.add("constrain", stats.constrain_ms);
     report.faces_cut += stats.faces_cut;
     report.points_in_vehicle_path += stats.points_in_vehicle_path;
+    report.points_carved += stats.points_carved;
     if (stats.points > 0 && stats.points_in_vehicle_path * 20 > stats.points && !warned_vehicle_box) {
       log::warn(
           "frame {}: {} of {} returns lie inside the vehicle's box at this or an earlier pose and were dropped; "
@@ -285,11 +287,14 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
     last_stamp_s = frame_stamp_s;
     ++report.frames;
     log::debug(
-        "frame {}: {} points, {} kept, {} active voxels, {} meshed, insert {:.1f} ms, mesh {:.1f} ms, constrain {:.1f} "
-        "ms ({} of {} patch vertices; patch {:.1f}, build {:.1f}, solve {:.1f} ms; {} faces cut)",
-        frame_index, stats.points, stats.points_kept, stats.active_voxels, stats.meshed_voxels, stats.insert_ms,
-        stats.mesh_ms, stats.constrain_ms, stats.constraint.active_vertices, stats.constraint.patch_vertices,
-        stats.constraint.patch_ms, stats.constraint.build_ms, stats.constraint.solve_ms, stats.faces_cut);
+        "frame {}: {} points, {} kept, {} carved of {} tested, {} active voxels, {} meshed, insert {:.1f} ms, carve "
+        "{:.1f} ms, mesh "
+        "{:.1f} ms, constrain {:.1f} ms ({} of {} patch vertices; patch {:.1f}, build {:.1f}, solve {:.1f} ms; {} "
+        "faces cut)",
+        frame_index, stats.points, stats.points_kept, stats.points_carved, stats.points_tested_free,
+        stats.active_voxels, stats.meshed_voxels, stats.insert_ms, stats.carve_ms, stats.mesh_ms, stats.constrain_ms,
+        stats.constraint.active_vertices, stats.constraint.patch_vertices, stats.constraint.patch_ms,
+        stats.constraint.build_ms, stats.constraint.solve_ms, stats.faces_cut);
     if (params.observer) {
       params.observer({mapper, i + 1, total, frame_index, T_W_L, refined ? &*refined : nullptr, report.times, false});
     }

@@ -120,6 +120,7 @@ std::string timingJson(const RunReport& report) {
   j["peak_rss_mb"] = report.peak_rss_mb;
   j["frames_failed"] = report.frames_failed;
   j["points_in_vehicle_path"] = report.points_in_vehicle_path;
+  j["points_carved"] = report.points_carved;
   return j.dump(2) + "\n";
 }
 

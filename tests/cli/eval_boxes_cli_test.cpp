@@ -118,9 +118,13 @@ TEST_F(CliEvalBoxes, ScoresMeshAndMasksWithAndWithoutMovingTracks) {
       EXPECT_NEAR(c["iou"].get<double>(),
                   tp / (tp + c["false_positive"].get<double>() + c["false_negative"].get<double>()), 1e-12);
       EXPECT_NEAR(c["recall"].get<double>(), tp / c["points"].get<double>(), 1e-12);
+      // The map keeps what stays: where the driving cars were is free space by the end of the run,
+      // so their points find no car in the mesh; the parked ones do.
+      if (set == &all && std::string(source) == "mesh") continue;
       EXPECT_GT(c["recall"].get<double>(), 0.9) << source;
     }
   }
+  EXPECT_LT(mesh_car["recall"].get<double>(), still["mesh"]["classes"]["car"]["recall"].get<double>() - 0.1);
   EXPECT_GT(mesh_car["iou"].get<double>(), 0.3);
   EXPECT_GT(all["mesh"]["coverage"].get<double>(), 0.8);
 

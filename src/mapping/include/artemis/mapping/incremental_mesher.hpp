@@ -33,6 +33,7 @@ struct VoxelMeshResult {
   VoxelKey key;
   std::vector<Face> faces;
   Eigen::Vector3f normal = Eigen::Vector3f::Zero();  // plane normal towards the sensor; zero if none
+  bool planar = false;                                // the points lie on that plane (not scattered)
 };
 
 class IncrementalMesher {

@@ -9,6 +9,7 @@
 
 #include "artemis/core/point_cloud.hpp"
 #include "artemis/core/transform.hpp"
+#include "artemis/mapping/free_space.hpp"
 #include "artemis/mapping/incremental_mesher.hpp"
 #include "artemis/mapping/refinement.hpp"
 #include "artemis/mapping/semantic_constraint.hpp"
@@ -25,6 +26,7 @@ struct MapperParams {
   SemanticFusionParams semantics;
   RefinementParams refinement;
   SemanticConstraintParams constraint;
+  FreeSpaceParams free_space;
   // A voxel is first meshed once it holds first_mesh_points, then re-meshed once its points grew
   // by remesh_growth (and by at least remesh_min_new) since it was last meshed; finish() meshes
   // whatever is still pending, so the final mesh does not depend on these. On KITTI drive 0013
@@ -44,9 +46,12 @@ struct FrameStats {
   double mesh_ms = 0.0;
   double fuse_ms = 0.0;                    // semantic fusion (1b), when the frame came with an observation
   double constrain_ms = 0.0;               // semantic constraint (1d): cutting faces and moving vertices
+  double carve_ms = 0.0;                   // free space: counting misses and removing what was seen through
   std::size_t points = 0;                  // points given
   std::size_t points_kept = 0;             // new mesh vertices
   std::size_t points_in_vehicle_path = 0;  // dropped: inside the vehicle's box at this or an earlier pose
+  std::size_t points_carved = 0;           // kept points removed as free space (rays and vehicle box)
+  std::size_t points_tested_free = 0;      // kept points tested against rays for free space
   std::size_t active_voxels = 0;           // voxels that gained points
   std::size_t meshed_voxels = 0;           // voxels re-meshed this frame
   std::size_t semantic_observations = 0;
@@ -90,6 +95,11 @@ class Mapper {
   [[nodiscard]] const MapperParams& params() const { return params_; }
 
  private:
+  // Drops the faces that use points the carver removed, from the voxels that lost them and their
+  // neighbours (a face's vertices lie at most one voxel from its owner), without re-meshing: what
+  // those points held up goes at once, and finish() re-meshes the voxels, closing the gaps where
+  // the points that stay allow it.
+  void dropCarvedFaces(const CarveStats& carved);
   // Meshes `keys` (1c), cutting the faces the semantic constraint refuses, then moves their
   // vertices (1d); adds the constraint's figures to `stats` when given.
   std::size_t meshVoxels(const std::vector<VoxelKey>& keys, FrameStats* stats = nullptr);
@@ -102,6 +112,7 @@ class Mapper {
   Refinement refinement_;
   SemanticConstraint constraint_;
   SweptVolume swept_;
+  FreeSpaceCarver carver_;
   std::vector<Eigen::Vector3f> points_W_;
   std::vector<std::uint8_t> drop_;
   struct Arena;

@@ -30,12 +30,23 @@ struct Voxel {
   std::vector<std::uint32_t> vertices;   // mesh vertex ids of the kept points
   std::vector<Eigen::Vector3f> points;   // their positions, kept here too for cache-friendly meshing
   std::vector<std::uint16_t> sub_cells;  // their sub-cells (x * n + y) * n + z
+  // Free-space evidence per kept point (see FreeSpaceCarver): the frames whose returns fell in its
+  // sub-cell (saturating), the frames whose rays passed through it, and the last frame that hit it.
+  std::vector<std::uint8_t> hits;
+  std::vector<std::uint8_t> misses;
+  std::vector<std::uint32_t> last_hit;
   Eigen::Vector3f lo = Eigen::Vector3f::Constant(std::numeric_limits<float>::max());  // bounds of points
   Eigen::Vector3f hi = Eigen::Vector3f::Constant(std::numeric_limits<float>::lowest());
   std::array<std::uint64_t, 8> occupied{};  // one bit per sub-cell (8^3 = 512)
   std::uint32_t points_when_meshed = 0;     // vertices.size() when last meshed
   std::uint32_t active_frame = 0;           // the last insert() that added a point here
-  std::uint32_t meshed_frame = 0;           // the insert() count when it was last meshed
+  std::uint32_t hit_frame = 0;              // the last insert() with a return here
+  std::uint32_t carved_frame = 0;           // the last insert() after which faces here lost carved points
+  // The plane of the points when last meshed (unit normal), zero when they were fewer than the
+  // mesher needs, on a line or scattered: what FreeSpaceCarver tests crossings against.
+  Eigen::Vector3f plane_normal = Eigen::Vector3f::Zero();
+  std::uint32_t plane_points = 0;  // how many points the plane was fitted to
+  std::uint32_t meshed_frame = 0;  // the insert() count when it was last meshed
 };
 
 class VoxelMap {
@@ -52,6 +63,13 @@ class VoxelMap {
   // that was there before), or kNoVertex for a refused point. Valid until the next insert().
   [[nodiscard]] std::uint32_t insertedVertex(std::size_t i) const;
   static constexpr std::uint32_t kNoVertex = std::numeric_limits<std::uint32_t>::max();
+  // Removes the points of voxel `index` whose entry in `remove` (one per point) is non-zero: their
+  // sub-cells become free and their vertices leave the voxel (they stay in the mesh's arrays,
+  // unused, until the faces that use them are re-meshed). Appends the removed vertex ids to
+  // `removed`. The caller re-meshes the voxel and its neighbours.
+  void removePoints(std::uint32_t index, const std::vector<std::uint8_t>& remove, std::vector<std::uint32_t>& removed);
+  // Index of voxel `key` in voxelAt(), or kNoVertex.
+  [[nodiscard]] std::uint32_t indexOf(const VoxelKey& key) const;
   // The vertex holding the sub-cell of world point p_W, or kNoVertex where the map has none.
   [[nodiscard]] std::uint32_t vertexAt(const Eigen::Vector3f& p_W) const;
 
@@ -68,6 +86,7 @@ class VoxelMap {
   [[nodiscard]] std::vector<VoxelKey> keys() const;
   [[nodiscard]] const VoxelKey& keyAt(std::uint32_t index) const { return keys_[index]; }
   [[nodiscard]] const Voxel& voxelAt(std::uint32_t index) const { return voxels_[index]; }
+  Voxel& voxelAt(std::uint32_t index) { return voxels_[index]; }
 
   // Voxels grouped in blocks of kBlockVoxels^3, for culling: a view first tests blocks, then the
   // voxels of the blocks it sees. Each block: its key (voxel key / kBlockVoxels, floored) and the
@@ -88,6 +107,8 @@ class VoxelMap {
   // Sub-cell of p_W within voxel `key`, clamped against rounding at the voxel's far faces.
   [[nodiscard]] int subCellOf(const Eigen::Vector3f& p_W, const VoxelKey& key) const;
   void grow();
+  // Counts this frame as a hit of the point holding `sub_cell` in v (once per frame).
+  void countHit(Voxel& v, std::uint16_t sub_cell) const;
 
   VoxelMapParams params_;
   float inv_voxel_size_;

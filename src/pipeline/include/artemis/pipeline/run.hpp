@@ -116,6 +116,7 @@ struct RunReport {
   double finish_ms = 0.0;
   std::size_t faces_cut = 0;               // by the semantic constraint, over the frames (not the final meshing)
   std::size_t points_in_vehicle_path = 0;  // returns dropped inside the vehicle's box (MapperParams)
+  std::size_t points_carved = 0;           // kept points removed as free space (FreeSpaceCarver)
   double peak_rss_mb = 0.0;
   std::vector<registration::FrameRegistration> registrations;  // one per mapped frame, with refinement
   std::vector<std::size_t> registered_frames;                  // their recording indices

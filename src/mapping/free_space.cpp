@@ -1,0 +1,262 @@
+#include "artemis/mapping/free_space.hpp"
+
+#include <tbb/blocked_range.h>
+#include <tbb/parallel_for.h>
+
+#include <Eigen/Eigenvalues>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <optional>
+
+#include "artemis/core/timer.hpp"
+#include "range_image.hpp"
+
+namespace artemis::mapping {
+
+namespace {
+
+// Bins a little wider than the HDL-64E's steps (0.18 deg azimuth; 0.33-0.5 deg between beams).
+constexpr float kAzimuthStepDeg = 0.2f;
+constexpr float kElevationStepDeg = 0.25f;
+// A plane whose normal is this close to the world's vertical is level ground (~45 deg).
+constexpr float kLevelNormalZ = 0.7f;
+// The mesher's ratios (MesherParams): points on a line, and scattered points, have no plane.
+constexpr double kLinearRatio = 0.005;
+constexpr double kNonPlanarRatio = 0.04;
+
+// The plane of a voxel's points, fitted as the mesher does, for a voxel it has not meshed yet (the
+// surfaces a frame has just added, which the mesher meets after the carver); zero where it would
+// find none.
+Eigen::Vector3f fitPlane(const Voxel& v);
+
+// The mesher's plane, or one fitted here for a voxel it has not meshed (kept until the voxel's
+// points change, since most such voxels are sparse far ones that stay unmeshed for many frames).
+Eigen::Vector3f planeOf(Voxel& v) {
+  if (v.points_when_meshed > 0) return v.plane_normal;
+  if (v.plane_points != v.points.size()) {
+    v.plane_normal = fitPlane(v);
+    v.plane_points = static_cast<std::uint32_t>(v.points.size());
+  }
+  return v.plane_normal;
+}
+
+Eigen::Vector3f fitPlane(const Voxel& v) {
+  if (v.points.size() < 3) return Eigen::Vector3f::Zero();
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3f& p : v.points) centroid += p.cast<double>();
+  centroid /= static_cast<double>(v.points.size());
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  for (const Eigen::Vector3f& p : v.points) {
+    const Eigen::Vector3d d = p.cast<double>() - centroid;
+    covariance += d * d.transpose();
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(covariance);
+  const Eigen::Vector3d lambda = eigen.eigenvalues().cwiseMax(0.0);  // ascending
+  if (!(lambda(2) > 0.0) || lambda(1) < kLinearRatio * lambda(2) || lambda(0) > kNonPlanarRatio * lambda(1)) {
+    return Eigen::Vector3f::Zero();
+  }
+  return eigen.eigenvectors().col(0).cast<float>();
+}
+// A ray meets its surface at grazing incidence where the range grows by more than this many times
+// the distance to the neighbouring rays (~72 deg from the normal).
+constexpr float kGrazingSlope = 3.0f;
+
+}  // namespace
+
+FreeSpaceCarver::FreeSpaceCarver(const FreeSpaceParams& params, const Eigen::AlignedBox3f& vehicle_box_L)
+    : params_(params), vehicle_box_L_(vehicle_box_L) {
+  current_.image = std::make_unique<detail::RangeImage>(kAzimuthStepDeg, kElevationStepDeg);
+}
+
+FreeSpaceCarver::~FreeSpaceCarver() = default;
+
+CarveStats FreeSpaceCarver::carve(const std::vector<Eigen::Vector3f>& points_L, const Isometry3d& T_W_L, VoxelMap& map,
+                                  const std::vector<VoxelKey>& active) {
+  CarveStats stats;
+  if (!params_.enabled) return stats;
+  const Eigen::Vector3f sensor_W = T_W_L.translation().cast<float>();
+  if (!T_W_L.matrix().allFinite() || !(sensor_W.cwiseAbs().maxCoeff() < 1e6f)) return stats;  // a broken pose
+  Stopwatch clock;
+  Flags flags;
+  stats.removed_by_vehicle = flagVehicleBox(T_W_L, map, flags);
+  current_.R_L_W = T_W_L.linear().cast<float>().transpose();
+  current_.t_L_W = -(current_.R_L_W * sensor_W);
+  current_.image->build(points_L, static_cast<float>(params_.min_return_range_m), std::numeric_limits<float>::max(),
+                        kGrazingSlope);
+  const std::array<const Sweep*, 1> now{&current_};
+  countMisses(now, Tested::kOld, voxelsNear(sensor_W, map), map, flags, stats);
+  if (!earlier_.empty()) {
+    std::vector<std::uint32_t> created;
+    created.reserve(active.size());
+    for (const VoxelKey& key : active) created.push_back(map.indexOf(key));
+    std::vector<const Sweep*> before;
+    for (const Sweep& sweep : earlier_) before.push_back(&sweep);
+    countMisses(before, Tested::kNew, created, map, flags, stats);
+  }
+  stats.voxels.reserve(flags.size());
+  for (const auto& entry : flags) stats.voxels.push_back(entry.first);
+  std::sort(stats.voxels.begin(), stats.voxels.end());
+  for (const std::uint32_t index : stats.voxels) map.removePoints(index, flags[index], stats.vertices);
+  stats.removed_by_rays = stats.vertices.size() - stats.removed_by_vehicle;
+  // This frame's rays become the newest earlier sweep (recycling the oldest's storage).
+  if (params_.lookback_frames > 0) {
+    Sweep next;
+    if (static_cast<int>(earlier_.size()) >= params_.lookback_frames) {
+      next = std::move(earlier_.back());
+      earlier_.pop_back();
+    } else {
+      next.image = std::make_unique<detail::RangeImage>(kAzimuthStepDeg, kElevationStepDeg);
+    }
+    std::swap(next, current_);
+    earlier_.push_front(std::move(next));
+  }
+  stats.ms = clock.elapsedMs();
+  return stats;
+}
+
+std::size_t FreeSpaceCarver::flagVehicleBox(const Isometry3d& T_W_L, const VoxelMap& map, Flags& flags) const {
+  if (vehicle_box_L_.isEmpty()) return 0;
+  const Eigen::Isometry3f T = T_W_L.cast<float>();
+  const Eigen::Isometry3f T_L_W = T.inverse();
+  Eigen::AlignedBox3f box_W;
+  for (int c = 0; c < 8; ++c) box_W.extend(T * vehicle_box_L_.corner(static_cast<Eigen::AlignedBox3f::CornerType>(c)));
+  const VoxelKey lo = map.keyOf(box_W.min());
+  const VoxelKey hi = map.keyOf(box_W.max());
+  std::size_t flagged = 0;
+  for (std::int32_t x = lo.x; x <= hi.x; ++x) {
+    for (std::int32_t y = lo.y; y <= hi.y; ++y) {
+      for (std::int32_t z = lo.z; z <= hi.z; ++z) {
+        const std::uint32_t index = map.indexOf({x, y, z});
+        if (index == VoxelMap::kNoVertex) continue;
+        const Voxel& v = map.voxelAt(index);
+        for (std::size_t j = 0; j < v.points.size(); ++j) {
+          if (!vehicle_box_L_.contains(T_L_W * v.points[j])) continue;
+          auto& remove = flags[index];
+          remove.resize(v.points.size(), 0);
+          remove[j] = 1;
+          ++flagged;
+        }
+      }
+    }
+  }
+  return flagged;
+}
+
+std::vector<std::uint32_t> FreeSpaceCarver::voxelsNear(const Eigen::Vector3f& sensor_W, const VoxelMap& map) const {
+  const auto range = static_cast<float>(params_.max_range_m);
+  const float block_m = map.voxelSize() * static_cast<float>(VoxelMap::kBlockVoxels);
+  std::vector<std::uint32_t> voxels;
+  const auto stride = static_cast<std::uint32_t>(std::max(1, params_.old_voxel_stride));
+  const std::uint32_t phase = map.frame() % stride;
+  for (const VoxelMap::Block& block : map.blocks()) {
+    const Eigen::Vector3f lo = Eigen::Vector3f(static_cast<float>(block.key.x), static_cast<float>(block.key.y),
+                                               static_cast<float>(block.key.z)) *
+                               block_m;
+    const Eigen::AlignedBox3f box(lo, lo + Eigen::Vector3f::Constant(block_m));
+    if (box.exteriorDistance(sensor_W) > range) continue;
+    for (const std::uint32_t index : block.voxels) {
+      if (index % stride == phase) voxels.push_back(index);
+    }
+  }
+  return voxels;
+}
+
+void FreeSpaceCarver::countMisses(std::span<const Sweep* const> sweeps, Tested tested,
+                                  const std::vector<std::uint32_t>& voxels, VoxelMap& map, Flags& flags,
+                                  CarveStats& stats) const {
+  std::vector<std::vector<std::uint8_t>> removals(voxels.size());
+  std::vector<std::pair<std::size_t, std::size_t>> counts(voxels.size());
+  const std::uint32_t frame = map.frame();
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, voxels.size(), 64), [&](const auto& r) {
+    for (std::size_t i = r.begin(); i < r.end(); ++i) {
+      counts[i] = countVoxel(sweeps, tested, frame, map.voxelAt(voxels[i]), removals[i]);
+    }
+  });
+  for (std::size_t i = 0; i < voxels.size(); ++i) {
+    stats.points_tested += counts[i].first;
+    stats.misses += counts[i].second;
+    if (removals[i].empty()) continue;
+    auto& remove = flags[voxels[i]];
+    if (remove.empty()) {
+      remove = std::move(removals[i]);
+    } else {
+      for (std::size_t j = 0; j < remove.size(); ++j) remove[j] |= removals[i][j];
+    }
+  }
+}
+
+std::pair<std::size_t, std::size_t> FreeSpaceCarver::countVoxel(std::span<const Sweep* const> sweeps, Tested tested,
+                                                                std::uint32_t frame, Voxel& v,
+                                                                std::vector<std::uint8_t>& remove) const {
+  // Rays of this frame end in a voxel they hit, not behind it: its old points are not tested. A
+  // trail is where the car was, which this frame's returns do not reach.
+  if (tested == Tested::kOld && v.hit_frame == frame) return {0, 0};
+  std::size_t count = 0;
+  std::size_t seen = 0;
+  std::optional<Eigen::Vector3f> n_W;  // the voxel's plane, once a point needs it
+  const auto max_range = static_cast<float>(params_.max_range_m);
+  const auto min_range = static_cast<float>(params_.min_return_range_m);
+  for (std::size_t j = 0; j < v.points.size(); ++j) {
+    const bool created = v.last_hit[j] == frame && v.hits[j] == 1;
+    if (tested == Tested::kNew ? !created : (v.hits[j] >= params_.confirm_hits || v.last_hit[j] == frame)) continue;
+    for (const Sweep* sweep : sweeps) {
+      const Eigen::Vector3f p_L = sweep->R_L_W * v.points[j] + sweep->t_L_W;
+      const float r = p_L.norm();
+      if (!(r >= min_range) || r > max_range) continue;
+      ++count;
+      if (!n_W) n_W = planeOf(v);
+      const bool level = std::abs(n_W->z()) > kLevelNormalZ;
+      if (!seenThrough(*sweep->image, p_L, sweep->R_L_W * *n_W, sweep->R_L_W.col(2), level)) continue;
+      ++seen;
+      if (v.misses[j] < 255) ++v.misses[j];
+    }
+    const int needed = std::max(params_.min_misses, params_.misses_per_hit * static_cast<int>(v.hits[j]));
+    if (v.misses[j] >= needed) {
+      remove.resize(v.points.size(), 0);
+      remove[j] = 1;
+    }
+  }
+  return {count, seen};
+}
+
+bool FreeSpaceCarver::seenThrough(const detail::RangeImage& image, const Eigen::Vector3f& p_L,
+                                  const Eigen::Vector3f& n_L, const Eigen::Vector3f& up_L, bool level) const {
+  const float r = p_L.norm();
+  const Eigen::Vector3f d = p_L / r;
+  const auto lateral = static_cast<float>(params_.lateral_m + params_.lateral_per_m * r);
+  const float lateral2 = lateral * lateral;
+  const auto margin = static_cast<float>(params_.margin_m + params_.margin_per_m * r);
+  const auto beside = static_cast<float>(params_.beside_margin_m + params_.margin_per_m * r);
+  const auto min_cos = static_cast<float>(params_.min_incidence_cos);
+  const bool plane = n_L != Eigen::Vector3f::Zero();
+  // Most points lie where this scan's rays end, or behind them: one look says no ray goes beyond.
+  const detail::RangeImage::Cell cell = image.cellOf(d);
+  if (image.farthestNear(cell) <= r + std::min(margin, beside) - lateral) return false;
+  bool through = false;
+  image.forEachNear(cell, [&](const detail::RangeImage::Return& q) {
+    // The crossing lies within `lateral` of p, so a ray ending before r + margin - lateral cannot
+    // end `margin` beyond it.
+    if (through || q.range_m <= r + std::min(margin, beside) - lateral) return;
+    const float cos_incidence = plane ? n_L.dot(q.direction) : 0.0f;
+    if (std::abs(cos_incidence) >= min_cos) {
+      const float t = n_L.dot(p_L) / cos_incidence;  // where the ray crosses p's surface
+      through = t > 0.0f && q.range_m > t + margin && (q.direction * t - p_L).squaredNorm() <= lateral2;
+      return;
+    }
+    // No plane, or one the ray grazes: the ray passes beside p. It counts when it comes as near as
+    // `lateral` and ends well behind on a surface it meets squarely, unless p lies on level ground,
+    // where a ray skimming the road to a car behind says nothing about the road.
+    if (level || image.grazing(q)) return;
+    const float t = q.direction.dot(p_L);  // nearest approach
+    if (!(t > 0.0f) || q.range_m <= t + beside || (p_L - q.direction * t).squaredNorm() > lateral2) return;
+    // A ray that passes above p on its way down would, had p been on level ground, have met that
+    // ground soon after: it must end beyond, or p might be the floor it skimmed.
+    const float descent = q.direction.dot(up_L);
+    through = !(descent < 0.0f) || q.range_m > p_L.dot(up_L) / descent + margin;
+  });
+  return through;
+}
+
+}  // namespace artemis::mapping

@@ -1,0 +1,144 @@
+#pragma once
+// Free space: what a scan saw through cannot be static surface. A car driving ahead leaves its back
+// in the map at every place it was; each later scan's rays pass through those places on their way
+// to the car's new position (or to the road behind it). The carver counts, for every kept point of
+// the voxel map, the frames whose returns fell in its sub-cell (hits, counted by VoxelMap::insert)
+// and the frames whose rays passed through it (misses), and removes a point once its misses
+// outweigh its hits (the occupancy mapping of OctoMap and its kin, as counts rather than log-odds).
+//
+// Both directions in time count. Later rays pass through what a car driving ahead left behind;
+// a car following this one hides its own past from every later ray, but each of its new surfaces
+// lies where the rays of a frame or two before passed through, so the points a frame creates are
+// also tested against the rays of the last lookback_frames frames.
+//
+// A ray "passes through" point p (sensor frame) when it crosses p's local surface, the plane the
+// mesher last fitted to p's voxel (Voxel::plane_normal; fitted alike for a voxel not meshed yet),
+// within `lateral` of p and ends more than `margin` behind that crossing. Testing the
+// crossing of the plane, rather than the ray's distance to p, is what keeps the road: a ray that
+// passes 5 cm above a road point at 20 m meets the road half a metre later, and would otherwise
+// count against it. A ray that meets the plane at grazing incidence (below min_incidence_cos), or
+// passes a point whose voxel has no plane (not meshed yet, on a line, or scattered), is judged
+// by how near it passes p: within `lateral`, ending beside_margin behind, on a surface that it
+// meets squarely itself (see RangeImage: a ray that skims a wall or the road ends on it at grazing
+// incidence, and says nothing about what it skimmed) and, if it passes above p on its way down,
+// beyond where it would have met level ground through p (p may be the floor it skimmed: the road
+// at the foot of a wall). That is how the sides of a car driving ahead,
+// seen edge-on from behind, and the scattered points of its lower body go. Points on level ground
+// are only ever judged by their plane.
+
+// Thin structures survive in two ways: their points are hit again in most frames that see them,
+// and a point hit in confirm_hits frames is taken as static and never tested again (which also
+// bounds the work: the points tested are the young ones within max_range of the sensor). A
+// pole's point seen edge-on by a ray that slips past it gets a miss, but needs as many misses as
+// misses_per_hit times its hits before it goes.
+//
+// The vehicle's own box at the current pose (see SweptVolume) is free space too: points in it are
+// removed outright, which clears what a car driving ahead left where this vehicle now drives.
+//
+// The work is bounded by the map near the sensor: the voxels in blocks within max_range of it (one
+// in old_voxel_stride of them a frame), their young points, and one look at the scan's range image
+// per point (15 bins where a ray might pass through); plus the frame's new points against the
+// earlier scans.
+
+#include <cstdint>
+#include <deque>
+#include <memory>
+#include <span>
+#include <unordered_map>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "artemis/core/transform.hpp"
+#include "artemis/mapping/voxel_map.hpp"
+
+namespace artemis::mapping {
+
+namespace detail {
+class RangeImage;
+}
+
+struct FreeSpaceParams {
+  bool enabled = true;
+  double max_range_m = 30.0;        // map points farther from the sensor are not tested
+  double min_return_range_m = 2.5;  // shorter returns (the vehicle itself, spray) carve nothing
+  double lateral_m = 0.08;          // a ray crosses p's plane within lateral_m + lateral_per_m * range
+  double lateral_per_m = 0.002;
+  double margin_m = 0.2;  // ... and ends more than margin_m + margin_per_m * range behind the crossing
+  double margin_per_m = 0.01;
+  double min_incidence_cos = 0.25;  // |cos| of the ray's angle to the plane's normal, at least
+  double beside_margin_m = 0.5;     // a ray passing beside a point ends this much behind it (+ margin_per_m * range)
+  int confirm_hits = 3;             // a point hit in this many frames is static
+  int min_misses = 2;               // a point goes once misses >= max(min_misses, misses_per_hit * hits)
+  int misses_per_hit = 2;
+  // The points a frame creates are also tested against the rays of this many earlier frames: a car
+  // following this one is only ever seen through before it got somewhere, never after.
+  int lookback_frames = 3;
+  // Old points are tested in one voxel of every old_voxel_stride each frame, in turn: a trail
+  // takes a few frames longer to go, for a fraction of the work.
+  int old_voxel_stride = 1;
+};
+
+struct CarveStats {
+  double ms = 0.0;
+  std::size_t points_tested = 0;
+  std::size_t misses = 0;               // points seen through this frame
+  std::size_t removed_by_rays = 0;      // points removed because their misses outweighed their hits
+  std::size_t removed_by_vehicle = 0;   // points removed because the vehicle's box now holds them
+  std::vector<std::uint32_t> voxels;    // indices of the voxels that lost points (sorted)
+  std::vector<std::uint32_t> vertices;  // the removed vertex ids
+};
+
+class FreeSpaceCarver {
+ public:
+  FreeSpaceCarver(const FreeSpaceParams& params, const Eigen::AlignedBox3f& vehicle_box_L);
+  ~FreeSpaceCarver();
+  FreeSpaceCarver(const FreeSpaceCarver&) = delete;
+  FreeSpaceCarver& operator=(const FreeSpaceCarver&) = delete;
+
+  // Carves with the frame's returns `points_L` (LiDAR frame) taken at T_W_L, after the frame was
+  // inserted into `map`; `active`: the voxels the insert gave points. Spreads its work over the
+  // calling TBB arena; results do not depend on the thread count.
+  CarveStats carve(const std::vector<Eigen::Vector3f>& points_L, const Isometry3d& T_W_L, VoxelMap& map,
+                   const std::vector<VoxelKey>& active);
+
+  [[nodiscard]] const FreeSpaceParams& params() const { return params_; }
+
+ private:
+  // A scan's rays and the pose they were taken at (world to sensor).
+  struct Sweep {
+    std::unique_ptr<detail::RangeImage> image;
+    Eigen::Matrix3f R_L_W = Eigen::Matrix3f::Identity();
+    Eigen::Vector3f t_L_W = Eigen::Vector3f::Zero();
+  };
+  // Which points of a voxel a sweep tests: the old ones (not hit by this frame, not yet confirmed),
+  // against this frame's rays; or the ones this frame created, against an earlier frame's rays.
+  enum class Tested { kOld, kNew };
+  using Flags = std::unordered_map<std::uint32_t, std::vector<std::uint8_t>>;  // voxel -> per point: remove
+
+  // Flags the points in the vehicle's box at T_W_L; returns how many.
+  std::size_t flagVehicleBox(const Isometry3d& T_W_L, const VoxelMap& map, Flags& flags) const;
+  // The voxels in blocks within max_range of `sensor_W`.
+  [[nodiscard]] std::vector<std::uint32_t> voxelsNear(const Eigen::Vector3f& sensor_W, const VoxelMap& map) const;
+  // Counts the misses of the `tested` points of `voxels` against `sweeps` (one miss per sweep that
+  // saw through) and flags the points whose misses now outweigh their hits.
+  void countMisses(std::span<const Sweep* const> sweeps, Tested tested, const std::vector<std::uint32_t>& voxels,
+                   VoxelMap& map, Flags& flags, CarveStats& stats) const;
+  // The same for one voxel; sets remove[j] for the points that go. Returns tests and misses.
+  std::pair<std::size_t, std::size_t> countVoxel(std::span<const Sweep* const> sweeps, Tested tested,
+                                                 std::uint32_t frame, Voxel& v,
+                                                 std::vector<std::uint8_t>& remove) const;
+  // Whether a ray of `image` passes through point p_L whose voxel's plane has normal n_L (sensor
+  // frame; zero: no plane).
+  // `up_L`: the world's up; `level`: the plane is level ground.
+  [[nodiscard]] bool seenThrough(const detail::RangeImage& image, const Eigen::Vector3f& p_L,
+                                 const Eigen::Vector3f& n_L, const Eigen::Vector3f& up_L, bool level) const;
+
+  FreeSpaceParams params_;
+  Eigen::AlignedBox3f vehicle_box_L_;
+  Sweep current_;
+  std::deque<Sweep> earlier_;  // the last lookback_frames sweeps, newest first
+};
+
+}  // namespace artemis::mapping
