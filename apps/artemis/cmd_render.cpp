@@ -93,7 +93,9 @@ Result<render::View> freeView(const RenderFlags& flags) {
 // The recording's camera at frame `pose` of the run (its trajectory and the camera model of the
 // recording in config.json, or --dataset).
 Result<render::View> datasetView(const RenderFlags& flags) {
-  auto opened = openRunDataset(flags.run, flags.dataset, /*load_images=*/false);
+  datasets::DatasetOptions options;
+  options.load_images = false;
+  auto opened = openRunDataset(flags.run, flags.dataset, options);
   if (!opened) return opened.status();
   const datasets::Dataset& d = *opened->dataset;
   const auto first = static_cast<long long>(d.firstIndex());

@@ -41,51 +41,13 @@ int fail(const Status& status) {
   return 1;
 }
 
-Status requireFile(const fs::path& path, const std::string& what) {
-  std::error_code ec;
-  if (fs::is_regular_file(path, ec)) return Status::ok();
-  return notFound(fmt::format("{}: not found; {}", path.string(), what));
-}
-
-// The run's recording and poses: config.json's dataset (or `flags.dataset`) over the run's frame
-// range, gated by the flags' range, one trajectory.txt pose per frame.
-struct RunScans {
-  std::unique_ptr<datasets::Dataset> dataset;
-  std::vector<Isometry3d> trajectory;
-  bool vertical_correction = false;
-};
-
-Result<RunScans> openRunScans(const RayEvalFlags& flags) {
-  const fs::path run(flags.run);
-  const std::string hint = "artemis run writes it into its --out folder";
-  if (Status s = requireFile(run / "config.json", hint); !s.isOk()) return s;
-  if (Status s = requireFile(run / "trajectory.txt", hint); !s.isOk()) return s;
-  auto recording = readRunRecording(run / "config.json");
-  if (!recording) return recording.status();
-  auto trajectory = datasets::readPoseFile(run / "trajectory.txt");
-  if (!trajectory) return trajectory.status();
+// The run's recording over its frame range, gated by the flags' range, with its poses.
+Result<RunDataset> openRunScans(const RayEvalFlags& flags) {
   datasets::DatasetOptions options;
-  options.frames = recording->frames;
   options.min_range_m = flags.min_range_m;
   options.max_range_m = flags.max_range_m;
-  options.vertical_angle_correction = recording->vertical_correction;
   options.load_images = false;
-  if (!recording->sequence.empty()) options.sequence = recording->sequence;
-  const std::string path = flags.dataset.empty() ? recording->path : flags.dataset;
-  if (path.empty()) return parseError(fmt::format("{}: no dataset.path; give --dataset", (run / "config.json").string()));
-  auto dataset = datasets::openDataset(path, datasets::DatasetFormat::kAuto, options);
-  if (!dataset && flags.dataset.empty()) {
-    return Status(dataset.status().code(),
-                  fmt::format("{} (the recording named in {}; a relative path is taken from the current folder; "
-                              "give --dataset)",
-                              dataset.status().message(), (run / "config.json").string()));
-  }
-  if (!dataset) return dataset.status();
-  if (trajectory->size() != (*dataset)->size()) {
-    return invalidArgument(fmt::format("{}: {} poses for the {} frames of {}", (run / "trajectory.txt").string(),
-                                       trajectory->size(), (*dataset)->size(), (*dataset)->root().string()));
-  }
-  return RunScans{std::move(*dataset), std::move(*trajectory), recording->vertical_correction};
+  return openRunDataset(flags.run, flags.dataset, options);
 }
 
 Json sharesJson(const eval::RayCounts& c) {
@@ -135,14 +97,15 @@ void printTable(const eval::RayTally& t, std::size_t frames, const RayEvalFlags&
   row("surface", eval::RayClass::kSurface, t.all.surface);
   row("blocked", eval::RayClass::kBlocked, t.all.blocked);
   row("hole", eval::RayClass::kHole, t.all.hole);
-  fmt::print("blocked: {:.1f}% of them ground returns (> {} m below the sensor), {:.1f}% stopped by a level face; "
-             "median {:.2f} m in front of the return\n",
-             100.0 * ratio(t.blocked.ground, t.all.blocked), flags.params.ground_drop_m,
-             100.0 * ratio(t.blocked.horizontal_face, t.all.blocked), t.blocked.medianGap_m());
+  fmt::print(
+      "blocked: {:.1f}% of them ground returns (> {} m below the sensor), {:.1f}% stopped by a level face; "
+      "median {:.2f} m in front of the return\n",
+      100.0 * ratio(t.blocked.ground, t.all.blocked), flags.params.ground_drop_m,
+      100.0 * ratio(t.blocked.horizontal_face, t.all.blocked), t.blocked.medianGap_m());
   fmt::print("hole: {:.1f}% of them hit nothing at all\n", 100.0 * ratio(t.hole_no_hit, t.all.hole));
 }
 
-Json settingsJson(const RayEvalFlags& flags, const RunScans& scans) {
+Json settingsJson(const RayEvalFlags& flags, const RunDataset& scans) {
   const datasets::Dataset& d = *scans.dataset;
   return {{"dataset", d.root().string()},
           {"format", d.format()},
@@ -152,13 +115,13 @@ Json settingsJson(const RayEvalFlags& flags, const RunScans& scans) {
           {"subsample", "even stride over the range-gated returns in scan order"},
           {"min_range_m", flags.min_range_m},
           {"max_range_m", flags.max_range_m},
-          {"vertical_correction", scans.vertical_correction},
+          {"vertical_correction", scans.recording.vertical_correction},
           {"tolerance_m", flags.params.tolerance_m},
           {"tolerance_share", flags.params.tolerance_share}};
 }
 
 // Casts the frames' subsampled returns; per-frame figures go into `frames_json`.
-Result<eval::RayTally> castFrames(const RunScans& scans, const eval::RayConsistency& rays, const RayEvalFlags& flags,
+Result<eval::RayTally> castFrames(const RunDataset& scans, const eval::RayConsistency& rays, const RayEvalFlags& flags,
                                   Json& frames_json, std::size_t& frames_cast) {
   const datasets::Dataset& d = *scans.dataset;
   eval::RayTally total;
@@ -230,7 +193,8 @@ int runRayEval(const RayEvalFlags& flags) {
          {"seconds", {{"scene", build_s}, {"total", seconds}}}};
   const fs::path out = flags.json.empty() ? fs::path(flags.run) / "rays.json" : fs::path(flags.json);
   const std::string text = j.dump(2) + "\n";
-  if (Status s = io::writeFileAtomic(out, std::as_bytes(std::span(text.data(), text.size()))); !s.isOk()) return fail(s);
+  if (Status s = io::writeFileAtomic(out, std::as_bytes(std::span(text.data(), text.size()))); !s.isOk())
+    return fail(s);
   log::info("{} rays cast in {:.1f} s; written to {}", tally->all.total(), seconds, out.string());
   return 0;
 }

@@ -117,7 +117,9 @@ int fail(const Status& status) {
 
 int runTextureEval(const TextureEvalFlags& flags) {
   const fs::path run(flags.run);
-  auto opened = openRunDataset(run, flags.dataset, /*load_images=*/true);
+  datasets::DatasetOptions options;
+  options.load_images = true;
+  auto opened = openRunDataset(run, flags.dataset, options);
   if (!opened) return fail(opened.status());
   const int holdout = flags.holdout > 0 ? flags.holdout : opened->recording.texture_holdout;
   if (holdout <= 0) {
@@ -170,7 +172,8 @@ int runTextureEval(const TextureEvalFlags& flags) {
     progress.update(i + 1, d.size());
   }
   progress.finish();
-  if (mesh_tally.views == 0) return fail(notFound(fmt::format("{}: no held-out view could be rendered", d.root().string())));
+  if (mesh_tally.views == 0)
+    return fail(notFound(fmt::format("{}: no held-out view could be rendered", d.root().string())));
   const Json mj = mesh_tally.json();
   const Json sj = splat_tally.json();
   fmt::print("{} held-out views (every {}th frame) of {}\n", mesh_tally.views, holdout, d.root().string());

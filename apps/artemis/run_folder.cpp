@@ -58,20 +58,37 @@ Result<RunRecording> readRunRecording(const fs::path& path) {
   return out;
 }
 
-Result<RunDataset> openRunDataset(const fs::path& run, const std::string& dataset_override, bool load_images) {
+Status requireFile(const fs::path& path, const std::string& what) {
+  std::error_code ec;
+  if (fs::is_regular_file(path, ec)) return Status::ok();
+  return notFound(fmt::format("{}: not found; {}", path.string(), what));
+}
+
+Result<RunDataset> openRunDataset(const fs::path& run, const std::string& dataset_override,
+                                  datasets::DatasetOptions options) {
+  const std::string hint = "artemis run writes it into its --out folder";
+  if (Status s = requireFile(run / "config.json", hint); !s.isOk()) return s;
+  if (Status s = requireFile(run / "trajectory.txt", hint); !s.isOk()) return s;
   auto recording = readRunRecording(run / "config.json");
   if (!recording) return recording.status();
   auto trajectory = datasets::readPoseFile(run / "trajectory.txt");
   if (!trajectory) return trajectory.status();
-  datasets::DatasetOptions options;
   options.frames = recording->frames;
-  options.load_images = load_images;
+  options.vertical_angle_correction = recording->vertical_correction;
   if (!recording->sequence.empty()) options.sequence = recording->sequence;
   const std::string path = dataset_override.empty() ? recording->path : dataset_override;
+  if (path.empty())
+    return parseError(fmt::format("{}: no dataset.path; give --dataset", (run / "config.json").string()));
   auto dataset = datasets::openDataset(path, datasets::DatasetFormat::kAuto, options);
+  if (!dataset && dataset_override.empty()) {
+    return Status(dataset.status().code(),
+                  fmt::format("{} (the recording named in {}; a relative path is taken from the current folder; "
+                              "give --dataset)",
+                              dataset.status().message(), (run / "config.json").string()));
+  }
   if (!dataset) return dataset.status();
   if (trajectory->size() != (*dataset)->size()) {
-    return invalidArgument(fmt::format("{}: {} poses for {} frames of {}", (run / "trajectory.txt").string(),
+    return invalidArgument(fmt::format("{}: {} poses for the {} frames of {}", (run / "trajectory.txt").string(),
                                        trajectory->size(), (*dataset)->size(), (*dataset)->root().string()));
   }
   return RunDataset{std::move(*recording), std::move(*dataset), std::move(*trajectory)};

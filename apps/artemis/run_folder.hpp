@@ -33,7 +33,12 @@ struct RunDataset {
   std::unique_ptr<datasets::Dataset> dataset;
   std::vector<Isometry3d> trajectory;  // T_W_L of frame i of `dataset`
 };
+// ok when `path` is a regular file, else a not-found error naming it and saying `what` to do.
+Status requireFile(const std::filesystem::path& path, const std::string& what);
+
+// `options`: what the caller reads (images, range gate); the run's frame range, sequence and
+// vertical correction are filled in from config.json. Errors name the missing file or recording.
 Result<RunDataset> openRunDataset(const std::filesystem::path& run, const std::string& dataset_override,
-                                  bool load_images);
+                                  datasets::DatasetOptions options);
 
 }  // namespace artemis::cli
