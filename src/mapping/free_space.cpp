@@ -199,8 +199,9 @@ std::pair<std::size_t, std::size_t> FreeSpaceCarver::countVoxel(std::span<const 
   const auto max_range = static_cast<float>(params_.max_range_m);
   const auto min_range = static_cast<float>(params_.min_return_range_m);
   for (std::size_t j = 0; j < v.points.size(); ++j) {
-    const bool created = v.last_hit[j] == frame && v.hits[j] == 1;
-    if (tested == Tested::kNew ? !created : (v.hits[j] >= params_.confirm_hits || v.last_hit[j] == frame)) continue;
+    PointEvidence& e = v.evidence[j];
+    const bool created = e.last_hit == frame && e.hits == 1;
+    if (tested == Tested::kNew ? !created : (e.hits >= params_.confirm_hits || e.last_hit == frame)) continue;
     for (const Sweep* sweep : sweeps) {
       const Eigen::Vector3f p_L = sweep->R_L_W * v.points[j] + sweep->t_L_W;
       const float r = p_L.norm();
@@ -210,10 +211,10 @@ std::pair<std::size_t, std::size_t> FreeSpaceCarver::countVoxel(std::span<const 
       const bool level = std::abs(n_W->z()) > kLevelNormalZ;
       if (!seenThrough(*sweep->image, p_L, sweep->R_L_W * *n_W, sweep->R_L_W.col(2), level)) continue;
       ++seen;
-      if (v.misses[j] < 255) ++v.misses[j];
+      if (e.misses < 255) ++e.misses;
     }
-    const int needed = std::max(params_.min_misses, params_.misses_per_hit * static_cast<int>(v.hits[j]));
-    if (v.misses[j] >= needed) {
+    const int needed = std::max(params_.min_misses, params_.misses_per_hit * static_cast<int>(e.hits));
+    if (e.misses >= needed) {
       remove.resize(v.points.size(), 0);
       remove[j] = 1;
     }

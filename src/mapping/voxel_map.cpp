@@ -126,9 +126,7 @@ std::vector<VoxelKey> VoxelMap::insert(const std::vector<Eigen::Vector3f>& point
     v.vertices.push_back(mesh.addVertex(p, q.key, (sensor_W - p).normalized(), last_index));
     v.points.push_back(p);
     v.sub_cells.push_back(static_cast<std::uint16_t>(q.sub_cell));
-    v.hits.push_back(1);
-    v.misses.push_back(0);
-    v.last_hit.push_back(frame_);
+    v.evidence.push_back({frame_, 1, 0});
     v.lo = v.lo.cwiseMin(p);
     v.hi = v.hi.cwiseMax(p);
     if (v.active_frame != frame_) {
@@ -145,9 +143,10 @@ void VoxelMap::countHit(Voxel& v, std::uint16_t sub_cell) const {
   while (j > 0 && v.sub_cells[j - 1] != sub_cell) --j;
   if (j == 0) return;
   --j;
-  if (v.last_hit[j] == frame_) return;
-  v.last_hit[j] = frame_;
-  if (v.hits[j] < 255) ++v.hits[j];
+  PointEvidence& e = v.evidence[j];
+  if (e.last_hit == frame_) return;
+  e.last_hit = frame_;
+  if (e.hits < 255) ++e.hits;
 }
 
 void VoxelMap::removePoints(std::uint32_t index, const std::vector<std::uint8_t>& remove,
@@ -170,9 +169,7 @@ void VoxelMap::removePoints(std::uint32_t index, const std::vector<std::uint8_t>
     v.vertices[kept] = v.vertices[j];
     v.points[kept] = v.points[j];
     v.sub_cells[kept] = v.sub_cells[j];
-    v.hits[kept] = v.hits[j];
-    v.misses[kept] = v.misses[j];
-    v.last_hit[kept] = v.last_hit[j];
+    v.evidence[kept] = v.evidence[j];
     v.lo = v.lo.cwiseMin(v.points[j]);
     v.hi = v.hi.cwiseMax(v.points[j]);
     ++kept;
@@ -180,9 +177,7 @@ void VoxelMap::removePoints(std::uint32_t index, const std::vector<std::uint8_t>
   v.vertices.resize(kept);
   v.points.resize(kept);
   v.sub_cells.resize(kept);
-  v.hits.resize(kept);
-  v.misses.resize(kept);
-  v.last_hit.resize(kept);
+  v.evidence.resize(kept);
   v.points_when_meshed = std::min(v.points_when_meshed, static_cast<std::uint32_t>(kept));
 }
 

@@ -26,15 +26,21 @@ struct VoxelMapParams {
   int subdivisions = 4;
 };
 
+// The frames whose returns fell in a point's sub-cell (saturating), the frames whose rays passed
+// through it, and the last frame that hit it.
+struct PointEvidence {
+  std::uint32_t last_hit = 0;
+  std::uint8_t hits = 0;
+  std::uint8_t misses = 0;
+};
+
 struct Voxel {
   std::vector<std::uint32_t> vertices;   // mesh vertex ids of the kept points
   std::vector<Eigen::Vector3f> points;   // their positions, kept here too for cache-friendly meshing
   std::vector<std::uint16_t> sub_cells;  // their sub-cells (x * n + y) * n + z
-  // Free-space evidence per kept point (see FreeSpaceCarver): the frames whose returns fell in its
-  // sub-cell (saturating), the frames whose rays passed through it, and the last frame that hit it.
-  std::vector<std::uint8_t> hits;
-  std::vector<std::uint8_t> misses;
-  std::vector<std::uint32_t> last_hit;
+  // Free-space evidence per kept point (see FreeSpaceCarver), one vector rather than three: most
+  // voxels hold a few points, and each vector costs a header and an allocation per voxel.
+  std::vector<PointEvidence> evidence;
   Eigen::Vector3f lo = Eigen::Vector3f::Constant(std::numeric_limits<float>::max());  // bounds of points
   Eigen::Vector3f hi = Eigen::Vector3f::Constant(std::numeric_limits<float>::lowest());
   std::array<std::uint64_t, 8> occupied{};  // one bit per sub-cell (8^3 = 512)
