@@ -89,9 +89,16 @@ nlohmann::ordered_json configJson(const RunFlags& f, const std::string& dataset_
             {"max_range_m", m.free_space.max_range_m},
             {"lateral_m", m.free_space.lateral_m},
             {"margin_m", m.free_space.margin_m},
+            {"min_return_range_m", m.free_space.min_return_range_m},
+            {"lateral_per_m", m.free_space.lateral_per_m},
+            {"margin_per_m", m.free_space.margin_per_m},
+            {"beside_margin_m", m.free_space.beside_margin_m},
+            {"min_incidence_cos", m.free_space.min_incidence_cos},
             {"confirm_hits", m.free_space.confirm_hits},
             {"min_misses", m.free_space.min_misses},
-            {"misses_per_hit", m.free_space.misses_per_hit}}},
+            {"misses_per_hit", m.free_space.misses_per_hit},
+            {"lookback_frames", m.free_space.lookback_frames},
+            {"old_voxel_stride", m.free_space.old_voxel_stride}}},
           {"vehicle_box_m",
            m.vehicle_box_L.isEmpty()
                ? nlohmann::json(nullptr)
