@@ -3,8 +3,6 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 
-#include <Eigen/Eigenvalues>
-
 #include <algorithm>
 #include <array>
 #include <cmath>
@@ -22,51 +20,15 @@ constexpr float kAzimuthStepDeg = 0.2f;
 constexpr float kElevationStepDeg = 0.25f;
 // A plane whose normal is this close to the world's vertical is level ground (~45 deg).
 constexpr float kLevelNormalZ = 0.7f;
-// The mesher's ratios (MesherParams): points on a line, and scattered points, have no plane.
-constexpr double kLinearRatio = 0.005;
-constexpr double kNonPlanarRatio = 0.04;
-
-// The plane of a voxel's points, fitted as the mesher does, for a voxel it has not meshed yet (the
-// surfaces a frame has just added, which the mesher meets after the carver); zero where it would
-// find none.
-Eigen::Vector3f fitPlane(const Voxel& v);
-
-// The mesher's plane, or one fitted here for a voxel it has not meshed (kept until the voxel's
-// points change, since most such voxels are sparse far ones that stay unmeshed for many frames).
-Eigen::Vector3f planeOf(Voxel& v) {
-  if (v.points_when_meshed > 0) return v.plane_normal;
-  if (v.plane_points != v.points.size()) {
-    v.plane_normal = fitPlane(v);
-    v.plane_points = static_cast<std::uint32_t>(v.points.size());
-  }
-  return v.plane_normal;
-}
-
-Eigen::Vector3f fitPlane(const Voxel& v) {
-  if (v.points.size() < 3) return Eigen::Vector3f::Zero();
-  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
-  for (const Eigen::Vector3f& p : v.points) centroid += p.cast<double>();
-  centroid /= static_cast<double>(v.points.size());
-  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
-  for (const Eigen::Vector3f& p : v.points) {
-    const Eigen::Vector3d d = p.cast<double>() - centroid;
-    covariance += d * d.transpose();
-  }
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(covariance);
-  const Eigen::Vector3d lambda = eigen.eigenvalues().cwiseMax(0.0);  // ascending
-  if (!(lambda(2) > 0.0) || lambda(1) < kLinearRatio * lambda(2) || lambda(0) > kNonPlanarRatio * lambda(1)) {
-    return Eigen::Vector3f::Zero();
-  }
-  return eigen.eigenvectors().col(0).cast<float>();
-}
 // A ray meets its surface at grazing incidence where the range grows by more than this many times
 // the distance to the neighbouring rays (~72 deg from the normal).
 constexpr float kGrazingSlope = 3.0f;
 
 }  // namespace
 
-FreeSpaceCarver::FreeSpaceCarver(const FreeSpaceParams& params, const Eigen::AlignedBox3f& vehicle_box_L)
-    : params_(params), vehicle_box_L_(vehicle_box_L) {
+FreeSpaceCarver::FreeSpaceCarver(const FreeSpaceParams& params, const MesherParams& mesher,
+                                 const Eigen::AlignedBox3f& vehicle_box_L)
+    : params_(params), mesher_(mesher), vehicle_box_L_(vehicle_box_L) {
   current_.image = std::make_unique<detail::RangeImage>(kAzimuthStepDeg, kElevationStepDeg);
 }
 
@@ -220,6 +182,19 @@ std::pair<std::size_t, std::size_t> FreeSpaceCarver::countVoxel(std::span<const 
     }
   }
   return {count, seen};
+}
+
+Eigen::Vector3f FreeSpaceCarver::planeOf(Voxel& v) const {
+  if (v.points_when_meshed > 0) return v.plane_normal;
+  // Not meshed yet (the surfaces a frame has just added, which the mesher meets after the carver,
+  // and sparse far voxels that stay unmeshed for many frames): fitted as the mesher would, and kept
+  // until the voxel's points change.
+  if (v.plane_points != v.points.size()) {
+    const VoxelPlane plane = fitVoxelPlane(v.points, mesher_);
+    v.plane_normal = plane.planar ? Eigen::Vector3f(plane.normal.cast<float>()) : Eigen::Vector3f::Zero();
+    v.plane_points = static_cast<std::uint32_t>(v.points.size());
+  }
+  return v.plane_normal;
 }
 
 bool FreeSpaceCarver::seenThrough(const detail::RangeImage& image, const Eigen::Vector3f& p_L,

@@ -39,6 +39,26 @@ double minSinAngle(const Vector3d& a, const Vector3d& b, const Vector3d& c) {
 
 }  // namespace
 
+VoxelPlane fitVoxelPlane(const std::vector<Vector3f>& points, const MesherParams& params) {
+  VoxelPlane plane;
+  if (points.size() < 3) return plane;
+  for (const Vector3f& p : points) plane.centroid += p.cast<double>();
+  plane.centroid /= static_cast<double>(points.size());
+  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
+  for (const Vector3f& p : points) {
+    const Vector3d d = p.cast<double>() - plane.centroid;
+    covariance += d * d.transpose();
+  }
+  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(covariance);
+  const Vector3d lambda = eigen.eigenvalues().cwiseMax(0.0);  // ascending
+  if (!(lambda(2) > 0.0) || lambda(1) < params.linear_ratio * lambda(2)) return plane;
+  plane.line = false;
+  plane.normal = eigen.eigenvectors().col(0);
+  plane.major = eigen.eigenvectors().col(2);
+  plane.planar = lambda(0) <= params.nonplanar_ratio * lambda(1);
+  return plane;
+}
+
 VoxelMeshResult IncrementalMesher::meshVoxel(const VoxelMap& map, const SemanticMesh& mesh, const VoxelKey& key) const {
   VoxelMeshResult result;
   result.key = key;
@@ -46,28 +66,19 @@ VoxelMeshResult IncrementalMesher::meshVoxel(const VoxelMap& map, const Semantic
   if (voxel == nullptr || static_cast<int>(voxel->vertices.size()) < params_.min_points) return result;
   const auto& views = mesh.viewDirections();
 
-  // Plane of the voxel's own points (PCA).
-  Vector3d centroid = Vector3d::Zero();
-  for (const Vector3f& p : voxel->points) centroid += p.cast<double>();
-  centroid /= static_cast<double>(voxel->points.size());
-  Eigen::Matrix3d covariance = Eigen::Matrix3d::Zero();
-  for (const Vector3f& p : voxel->points) {
-    const Vector3d d = p.cast<double>() - centroid;
-    covariance += d * d.transpose();
-  }
-  // Which side the sensors saw the surface from: a few view directions suffice.
+  // Plane of the voxel's own points (PCA), the normal turned to the side the sensors saw it from
+  // (a few view directions suffice).
+  const VoxelPlane plane = fitVoxelPlane(voxel->points, params_);
+  if (plane.line) return result;
   Vector3d view = Vector3d::Zero();
   for (std::size_t i = 0; i < voxel->vertices.size(); i += 1 + voxel->vertices.size() / 8) {
     view += views[voxel->vertices[i]].cast<double>();
   }
-  const Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> eigen(covariance);
-  const Vector3d lambda = eigen.eigenvalues().cwiseMax(0.0);                              // ascending
-  if (!(lambda(2) > 0.0) || lambda(1) < params_.linear_ratio * lambda(2)) return result;  // a line
-  Vector3d normal = eigen.eigenvectors().col(0);
-  if (normal.dot(view) < 0.0) normal = -normal;
-  const bool planar = lambda(0) <= params_.nonplanar_ratio * lambda(1);
+  const Vector3d& centroid = plane.centroid;
+  const Vector3d normal = plane.normal.dot(view) < 0.0 ? Vector3d(-plane.normal) : plane.normal;
+  const bool planar = plane.planar;
   const double max_edge = planar ? params_.max_edge_m : params_.max_edge_nonplanar_m;
-  const Vector3d u = eigen.eigenvectors().col(2);
+  const Vector3d& u = plane.major;
   const Vector3d w = normal.cross(u);
 
   // Own points, then the rim: neighbours' points within rim_m of this voxel's box.

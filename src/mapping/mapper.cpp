@@ -54,7 +54,7 @@ Mapper::Mapper(const MapperParams& params)
       refinement_(params.refinement, params.semantics.background_score, params.semantics.geometry),
       constraint_(params.constraint, params.semantics.confidence_lambda),
       swept_(params.vehicle_box_L),
-      carver_(params.free_space, params.vehicle_box_L),
+      carver_(params.free_space, params.mesher, params.vehicle_box_L),
       arena_(std::make_unique<Arena>(params.threads)) {
   mesh_.setVoxelPrior(static_cast<float>(params.semantics.voxel_prior));
   mesh_.setStageOneWeight(static_cast<float>(params.refinement.stage_one_weight));

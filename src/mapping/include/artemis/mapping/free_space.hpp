@@ -51,6 +51,7 @@
 #include <Eigen/Geometry>
 
 #include "artemis/core/transform.hpp"
+#include "artemis/mapping/incremental_mesher.hpp"
 #include "artemis/mapping/voxel_map.hpp"
 
 namespace artemis::mapping {
@@ -92,7 +93,8 @@ struct CarveStats {
 
 class FreeSpaceCarver {
  public:
-  FreeSpaceCarver(const FreeSpaceParams& params, const Eigen::AlignedBox3f& vehicle_box_L);
+  // `mesher`: how voxels not yet meshed get their plane (fitVoxelPlane).
+  FreeSpaceCarver(const FreeSpaceParams& params, const MesherParams& mesher, const Eigen::AlignedBox3f& vehicle_box_L);
   ~FreeSpaceCarver();
   FreeSpaceCarver(const FreeSpaceCarver&) = delete;
   FreeSpaceCarver& operator=(const FreeSpaceCarver&) = delete;
@@ -131,11 +133,14 @@ class FreeSpaceCarver {
                                                  std::vector<std::uint8_t>& remove) const;
   // Whether a ray of `image` passes through point p_L whose voxel's plane has normal n_L (sensor
   // frame; zero: no plane).
+  // The plane normal of voxel v (world; zero: none): the mesher's, or fitted here alike.
+  [[nodiscard]] Eigen::Vector3f planeOf(Voxel& v) const;
   // `up_L`: the world's up; `level`: the plane is level ground.
   [[nodiscard]] bool seenThrough(const detail::RangeImage& image, const Eigen::Vector3f& p_L,
                                  const Eigen::Vector3f& n_L, const Eigen::Vector3f& up_L, bool level) const;
 
   FreeSpaceParams params_;
+  MesherParams mesher_;
   Eigen::AlignedBox3f vehicle_box_L_;
   Sweep current_;
   std::deque<Sweep> earlier_;  // the last lookback_frames sweeps, newest first

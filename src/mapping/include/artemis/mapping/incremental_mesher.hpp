@@ -28,12 +28,24 @@ struct MesherParams {
   int min_points = 3;
 };
 
+// The plane of a voxel's points (PCA), as the mesher fits it.
+struct VoxelPlane {
+  Eigen::Vector3d centroid = Eigen::Vector3d::Zero();
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();  // unit, of either sign; zero for a line
+  Eigen::Vector3d major = Eigen::Vector3d::Zero();   // the direction of largest spread
+  bool line = true;                                  // no plane: too few points, or all along a line
+  bool planar = false;                               // a plane, and the points lie on it (not scattered)
+};
+// Fits `points` with the ratios of `params` (linear_ratio, nonplanar_ratio); fewer than 3 points
+// are a line.
+VoxelPlane fitVoxelPlane(const std::vector<Eigen::Vector3f>& points, const MesherParams& params);
+
 // What meshing one voxel produced.
 struct VoxelMeshResult {
   VoxelKey key;
   std::vector<Face> faces;
   Eigen::Vector3f normal = Eigen::Vector3f::Zero();  // plane normal towards the sensor; zero if none
-  bool planar = false;                                // the points lie on that plane (not scattered)
+  bool planar = false;                               // the points lie on that plane (not scattered)
 };
 
 class IncrementalMesher {
