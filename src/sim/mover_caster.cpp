@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "embree_ray.hpp"
+
 namespace artemis::sim::detail {
 
 struct MoverCaster::Impl {
@@ -86,18 +88,7 @@ MoverHit MoverCaster::Moment::intersect(const Eigen::Vector3f& origin, const Eig
                                         float t_far) const {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
-  RTCRayHit rh{};
-  rh.ray.org_x = origin.x();
-  rh.ray.org_y = origin.y();
-  rh.ray.org_z = origin.z();
-  rh.ray.dir_x = direction.x();
-  rh.ray.dir_y = direction.y();
-  rh.ray.dir_z = direction.z();
-  rh.ray.tnear = t_near;
-  rh.ray.tfar = t_far;
-  rh.ray.mask = 0xFFFFFFFFu;
-  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
-  rh.hit.instID[0] = RTC_INVALID_GEOMETRY_ID;
+  RTCRayHit rh = emptyRayHit(origin, direction, t_near, t_far);
   rtcIntersect1(static_cast<RTCScene>(scene_), &context, &rh);
   MoverHit hit;
   if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID && rh.hit.instID[0] != RTC_INVALID_GEOMETRY_ID) {

@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "embree_ray.hpp"
+
 namespace artemis::sim::detail {
 
 struct Raycaster::Impl {
@@ -48,17 +50,7 @@ Hit Raycaster::intersect(const Eigen::Vector3f& origin, const Eigen::Vector3f& d
                          float t_far) const {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
-  RTCRayHit rh{};
-  rh.ray.org_x = origin.x();
-  rh.ray.org_y = origin.y();
-  rh.ray.org_z = origin.z();
-  rh.ray.dir_x = direction.x();
-  rh.ray.dir_y = direction.y();
-  rh.ray.dir_z = direction.z();
-  rh.ray.tnear = t_near;
-  rh.ray.tfar = t_far;
-  rh.ray.mask = 0xFFFFFFFFu;
-  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  RTCRayHit rh = emptyRayHit(origin, direction, t_near, t_far);
   rtcIntersect1(impl_->scene, &context, &rh);
   Hit hit;
   if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) {
