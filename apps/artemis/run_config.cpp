@@ -99,6 +99,11 @@ nlohmann::ordered_json configJson(const RunFlags& f, const std::string& dataset_
             {"misses_per_hit", m.free_space.misses_per_hit},
             {"lookback_frames", m.free_space.lookback_frames},
             {"old_voxel_stride", m.free_space.old_voxel_stride}}},
+          {"hole_filling",
+           {{"on", m.holes.enabled},
+            {"max_loop_edges", m.holes.max_loop_edges},
+            {"max_edge_m", m.holes.max_edge_m},
+            {"max_plane_distance_m", m.holes.max_plane_distance_m}}},
           {"vehicle_box_m",
            m.vehicle_box_L.isEmpty()
                ? nlohmann::json(nullptr)

@@ -32,6 +32,18 @@ void addMapperFlags(CLI::App& cmd, RunFlags& f) {
                  "Free space: test map points up to this far from the sensor against each scan's rays (m)")
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
+  cmd.add_option("--free-space-stride", m.free_space.old_voxel_stride,
+                 "Free space: test the map's older points in one voxel of every N each frame, in turn (fewer tests a "
+                 "frame; a trail takes a few frames longer to go)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 64));
+  cmd.add_flag_callback(
+      "--no-hole-filling", [&holes = m.holes] { holes.enabled = false; },
+      "Leave the final mesh's small holes open (the cracks along voxel borders on sparse ground)");
+  cmd.add_option("--hole-max-edges", m.holes.max_loop_edges,
+                 "Hole filling: close holes whose outline has at most this many edges")
+      ->capture_default_str()
+      ->check(CLI::Range(3, 64));
   cmd.add_option("--vehicle-box", f.vehicle_box,
                  "The vehicle's body in the LiDAR frame: returns inside it at the current or an earlier pose "
                  "(a car following in the same lane) are dropped. kitti (KITTI's car and the simulator's), off, "

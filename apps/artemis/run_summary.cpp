@@ -38,6 +38,9 @@ void printRunSummary(const RunFlags& flags, const pipeline::RunReport& report_va
     fmt::print("free space per frame (median / p95 ms) {:.1f} / {:.1f}; {} points seen through and removed\n",
                carve.median_ms, carve.p95_ms, report->points_carved);
   }
+  if (report->holes_filled > 0) {
+    fmt::print("{} small holes in the final mesh closed with {} faces\n", report->holes_filled, report->hole_faces);
+  }
   if (!report->times.samples("constrain").empty()) {
     const auto constrain = report->times.summary("constrain");
     fmt::print("semantic constraint per frame (median / p95 ms) {:.1f} / {:.1f}; {} faces cut\n", constrain.median_ms,

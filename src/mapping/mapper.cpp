@@ -7,6 +7,7 @@
 #include <algorithm>
 #include <cmath>
 #include <iterator>
+#include <map>
 #include <unordered_set>
 
 #include "artemis/core/timer.hpp"
@@ -209,7 +210,28 @@ std::size_t Mapper::finish() {
     const auto first = pending.begin() + static_cast<std::ptrdiff_t>(begin);
     meshVoxels({first, first + static_cast<std::ptrdiff_t>(std::min(kChunk, pending.size() - begin))});
   }
+  fillHoles();
   return pending.size();
+}
+
+void Mapper::fillHoles() {
+  const std::vector<Face> fills = holeFillingFaces(mesh_.faces(), mesh_.positions(), params_.holes, &hole_stats_);
+  // Owned like the mesher's faces: by the voxel holding the centroid, else by the voxel of origin
+  // of the smallest vertex id.
+  std::map<VoxelKey, std::vector<Face>> by_owner;
+  const float inv_size = 1.0f / map_.voxelSize();
+  for (const Face& f : fills) {
+    const auto& p = mesh_.positions();
+    VoxelKey owner = voxelKeyOf((p[f[0]] + p[f[1]] + p[f[2]]) / 3.0f, inv_size);
+    if (map_.find(owner) == nullptr) owner = mesh_.voxels()[std::min({f[0], f[1], f[2]})];
+    by_owner[owner].push_back(f);
+  }
+  for (auto& [owner, added] : by_owner) {
+    const std::vector<Face>* own = mesh_.voxelFaces(owner);
+    std::vector<Face> faces = own != nullptr ? *own : std::vector<Face>{};
+    faces.insert(faces.end(), added.begin(), added.end());
+    mesh_.setVoxelFaces(owner, std::move(faces));
+  }
 }
 
 std::size_t Mapper::meshVoxels(const std::vector<VoxelKey>& keys, FrameStats* stats) {

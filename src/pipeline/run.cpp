@@ -304,6 +304,14 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
   Stopwatch finish_clock;
   mapper.finish();
   report.finish_ms = finish_clock.elapsedMs();
+  report.holes_filled = mapper.holeFilling().filled;
+  report.hole_faces = mapper.holeFilling().faces;
+  const mapping::HoleFillStats& holes = mapper.holeFilling();
+  log::debug(
+      "hole filling: {} boundary edges, {} small loops, {} closed with {} faces; left open: {} long edges, {} "
+      "islands, {} rough, {} bumpy, {} unclipped; {:.1f} ms",
+      holes.boundary_edges, holes.loops, holes.filled, holes.faces, holes.long_edges, holes.islands, holes.rough,
+      holes.bumpy, holes.unclipped, holes.ms);
   // The views still waiting, against the final mesh; the observer hears of all they looked at.
   if (live) acceptLive(live->drain());
   std::optional<mapping::RefinementStats> flushed;

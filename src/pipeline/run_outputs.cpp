@@ -121,6 +121,7 @@ std::string timingJson(const RunReport& report) {
   j["frames_failed"] = report.frames_failed;
   j["points_in_vehicle_path"] = report.points_in_vehicle_path;
   j["points_carved"] = report.points_carved;
+  j["holes_filled"] = report.holes_filled;
   return j.dump(2) + "\n";
 }
 

@@ -69,7 +69,8 @@ TEST(CliExportCloudBoxes, LeavesTheDrivingCarsOut) {
   EXPECT_GT(n_static + static_cast<std::size_t>(track0 + track1), n_plain);  // at most one voxel a point
 
   // Parked cars 2 and 3 fill their boxes at the same frame too.
-  const auto parked = test::runCli(exportArgs(tmp, "parked.ply", "--exclude-boxes " + labels + " --exclude-tracks 2,3"));
+  const auto parked =
+      test::runCli(exportArgs(tmp, "parked.ply", "--exclude-boxes " + labels + " --exclude-tracks 2,3"));
   ASSERT_EQ(parked.exit_code, 0) << parked.err;
   EXPECT_EQ(droppedFor(parked.out, 0), -1) << parked.out;
   EXPECT_GT(droppedFor(parked.out, 2) + droppedFor(parked.out, 3), 0) << parked.out;

@@ -9,9 +9,11 @@
 
 #include "artemis/datasets/dataset.hpp"
 #include "artemis/datasets/pose_file.hpp"
+#include "artemis/eval/geometry.hpp"
 #include "artemis/io/ply.hpp"
 #include "artemis/pipeline/run.hpp"
 #include "artemis/sim/writer.hpp"
+#include "mesh_checks.hpp"
 #include "support/test_support.hpp"
 
 namespace artemis {
@@ -90,6 +92,39 @@ TEST(RunPipeline, SameMeshWhateverTheThreadCount) {
   ASSERT_TRUE(run(one.path(), 1));
   ASSERT_TRUE(run(two.path(), 2));
   EXPECT_EQ(read(one / "mesh.ply"), read(two / "mesh.ply"));
+}
+
+eval::MeshArrays readMesh(const fs::path& mesh) {
+  auto arrays = eval::readMeshArrays(mesh);
+  EXPECT_TRUE(arrays) << arrays.status().toString();
+  return arrays ? *arrays : eval::MeshArrays{};
+}
+
+TEST(RunPipeline, ClosesSmallHolesUnlessTurnedOff) {
+  test::TempDir with;
+  test::TempDir without;
+  const auto filled = run(with.path(), 0);
+  ASSERT_TRUE(filled) << filled.status().toString();
+  auto dataset = datasets::openDataset(recording(), datasets::DatasetFormat::kAuto, noImages());
+  ASSERT_TRUE(dataset);
+  pipeline::RunParams params;
+  params.mapper.holes.enabled = false;
+  const auto open = pipeline::runPipeline(**dataset, params, without.path(), "{}\n");
+  ASSERT_TRUE(open) << open.status().toString();
+  // Four frames of the street leave cracks along voxel borders on the road: many are closed, with
+  // faces added to the same mesh.
+  EXPECT_GT(filled->holes_filled, 100u);
+  EXPECT_EQ(open->holes_filled, 0u);
+  EXPECT_EQ(filled->faces, open->faces + filled->hole_faces);
+  EXPECT_EQ(nlohmann::json::parse(read(with / "timing.json"))["holes_filled"], filled->holes_filled);
+  const eval::MeshArrays closed = readMesh(with / "mesh.ply");
+  const eval::MeshArrays cracked = readMesh(without / "mesh.ply");
+  // Each hole closed had at least three boundary edges.
+  EXPECT_LE(test::boundaryEdges(closed.triangles).size() + 3 * filled->holes_filled,
+            test::boundaryEdges(cracked.triangles).size());
+  const test::MeshChecks checks = test::checkMesh(closed.vertices, closed.triangles);
+  EXPECT_EQ(checks.duplicate_faces, 0u);
+  EXPECT_EQ(checks.non_manifold_edges, test::checkMesh(cracked.vertices, cracked.triangles).non_manifold_edges);
 }
 
 TEST(RunPipeline, DamagedScanIsSkippedAndCounted) {

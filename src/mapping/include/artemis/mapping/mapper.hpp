@@ -10,6 +10,7 @@
 #include "artemis/core/point_cloud.hpp"
 #include "artemis/core/transform.hpp"
 #include "artemis/mapping/free_space.hpp"
+#include "artemis/mapping/hole_filling.hpp"
 #include "artemis/mapping/incremental_mesher.hpp"
 #include "artemis/mapping/refinement.hpp"
 #include "artemis/mapping/semantic_constraint.hpp"
@@ -27,6 +28,7 @@ struct MapperParams {
   RefinementParams refinement;
   SemanticConstraintParams constraint;
   FreeSpaceParams free_space;
+  HoleFillParams holes;  // finish() closes the mesh's small holes
   // A voxel is first meshed once it holds first_mesh_points, then re-meshed once its points grew
   // by remesh_growth (and by at least remesh_min_new) since it was last meshed; finish() meshes
   // whatever is still pending, so the final mesh does not depend on these. On KITTI drive 0013
@@ -87,8 +89,11 @@ class Mapper {
   // Gives `cls` a semantic slot (a class newly prompted); see SemanticMesh::addSemanticClass.
   void addSemanticClass(semantics::ClassId cls) { mesh_.addSemanticClass(cls); }
   // Meshes every voxel with points added since it was last meshed (and applies the semantic
-  // constraint to them). Returns how many.
+  // constraint to them), then closes the mesh's small holes (params().holes). Returns how many
+  // voxels it meshed.
   std::size_t finish();
+  // What finish() closed.
+  [[nodiscard]] const HoleFillStats& holeFilling() const { return hole_stats_; }
 
   [[nodiscard]] const SemanticMesh& mesh() const { return mesh_; }
   [[nodiscard]] const VoxelMap& voxels() const { return map_; }
@@ -103,6 +108,8 @@ class Mapper {
   // Meshes `keys` (1c), cutting the faces the semantic constraint refuses, then moves their
   // vertices (1d); adds the constraint's figures to `stats` when given.
   std::size_t meshVoxels(const std::vector<VoxelKey>& keys, FrameStats* stats = nullptr);
+  // Adds the faces that close small holes to the voxels holding their centroids.
+  void fillHoles();
 
   MapperParams params_;
   VoxelMap map_;
@@ -113,6 +120,7 @@ class Mapper {
   SemanticConstraint constraint_;
   SweptVolume swept_;
   FreeSpaceCarver carver_;
+  HoleFillStats hole_stats_;
   std::vector<Eigen::Vector3f> points_W_;
   std::vector<std::uint8_t> drop_;
   struct Arena;

@@ -13,7 +13,8 @@
 //   <out>/registration.json  with pose refinement: per frame, what ICP did (see registrationJson)
 //   <out>/config.json     the effective settings (given by the caller)
 //   <out>/timing.json     {"frames": N, "stages": {"<stage>": {"median_ms", "p95_ms", "max_ms"}, ...,
-//                          "total": {...}}, "finish_ms", "peak_rss_mb", "frames_failed"}
+//                          "total": {...}}, "finish_ms", "peak_rss_mb", "frames_failed", "points_in_vehicle_path",
+//                          "points_carved", "holes_filled"}
 // Every file is written atomically.
 
 #include <filesystem>
@@ -117,6 +118,8 @@ struct RunReport {
   std::size_t faces_cut = 0;               // by the semantic constraint, over the frames (not the final meshing)
   std::size_t points_in_vehicle_path = 0;  // returns dropped inside the vehicle's box (MapperParams)
   std::size_t points_carved = 0;           // kept points removed as free space (FreeSpaceCarver)
+  std::size_t holes_filled = 0;            // small holes the final mesh closed (holeFillingFaces)
+  std::size_t hole_faces = 0;              // ... with this many faces
   double peak_rss_mb = 0.0;
   std::vector<registration::FrameRegistration> registrations;  // one per mapped frame, with refinement
   std::vector<std::size_t> registered_frames;                  // their recording indices
