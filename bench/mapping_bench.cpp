@@ -1,5 +1,6 @@
 // The geometry pipeline on the real KITTI drive (frames 0-49 with the reference poses): per-stage
-// time per frame (insert, mesh; median and p95; frames 0-9 against 40-49), peak memory, and
+// time per frame (insert, carve, mesh, constrain; median and p95; frames 0-9 against 40-49 for
+// insert + mesh), peak memory, and
 // accuracy against the reference cloud built from the same scans and poses, beside Open3D's
 // Poisson reconstruction (the paper's "Poi" baseline) scored by the same evaluator.
 //
@@ -90,7 +91,9 @@ int main(int argc, char** argv) {
   for (std::size_t i = 0; i < report->frames; ++i) {
     report->times.add("geometry", report->times.samples("insert")[i] + report->times.samples("mesh")[i]);
   }
-  for (const char* stage : {"read", "insert", "mesh", "geometry", "total"}) row(stage, 0, report->frames);
+  for (const char* stage : {"read", "insert", "carve", "mesh", "constrain", "geometry", "total"}) {
+    if (!report->times.samples(stage).empty()) row(stage, 0, report->frames);
+  }
   fmt::print("  frames 0-9 vs 40-49 (geometry): median {:.1f} vs {:.1f} ms, p95 {:.1f} vs {:.1f} ms\n",
              report->times.summary("geometry", 0, 10).median_ms, report->times.summary("geometry", 40, 50).median_ms,
              report->times.summary("geometry", 0, 10).p95_ms, report->times.summary("geometry", 40, 50).p95_ms);

@@ -40,6 +40,13 @@ std::uint32_t VoxelMap::findOrAdd(const VoxelKey& key, std::uint64_t hash) {
     slot = (slot + 1) & mask;
   }
   const auto index = static_cast<std::uint32_t>(voxels_.size());
+  if (voxels_.size() == voxels_.capacity()) {
+    // As SemanticMesh's vertices: room for many voxels at once (address space, paid for as used),
+    // rather than a copy of a few hundred thousand voxels into fresh memory mid-drive.
+    const std::size_t room = std::max(kVoxelRoom, 2 * voxels_.capacity());
+    voxels_.reserve(room);
+    keys_.reserve(room);
+  }
   voxels_.emplace_back();
   keys_.push_back(key);
   const VoxelKey block = coarserKey(key, kBlockVoxels);

@@ -107,7 +107,7 @@ std::string timingJson(const RunReport& report) {
   nlohmann::ordered_json stages = nlohmann::ordered_json::object();
   for (const std::string& stage :
        {std::string("read"), std::string("register"), std::string("segment"), std::string("segment_wait"),
-        std::string("insert"), std::string("fuse"), std::string("mesh"), std::string("constrain"),
+        std::string("insert"), std::string("carve"), std::string("fuse"), std::string("mesh"), std::string("constrain"),
         std::string("refine"), std::string("revisit")}) {
     if (report.times.samples(stage).empty()) continue;
     const StageSummary s = report.times.summary(stage);

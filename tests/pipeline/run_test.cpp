@@ -78,7 +78,7 @@ TEST(RunPipeline, WritesMeshTrajectoryConfigAndTiming) {
   EXPECT_EQ(read(out / "config.json"), "{\"test\": true}\n");
   const auto timing = nlohmann::json::parse(read(out / "timing.json"));
   EXPECT_EQ(timing["frames"], 4);
-  for (const char* stage : {"read", "insert", "mesh", "total"}) {
+  for (const char* stage : {"read", "insert", "carve", "mesh", "total"}) {
     ASSERT_TRUE(timing["stages"].contains(stage)) << stage;
     EXPECT_GT(timing["stages"][stage]["max_ms"].get<double>(), 0.0);
     EXPECT_LE(timing["stages"][stage]["median_ms"].get<double>(), timing["stages"][stage]["p95_ms"].get<double>());

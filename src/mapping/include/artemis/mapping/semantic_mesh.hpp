@@ -140,6 +140,11 @@ class SemanticMesh {
   [[nodiscard]] Compact compact() const;
 
  private:
+  static constexpr std::size_t kVertexRoom = std::size_t{1} << 22;
+  // Reserves room for at least kVertexRoom vertices (twice the present room once past it) in every
+  // per-vertex array.
+  void growVertexRoom();
+
   std::vector<Eigen::Vector3f> positions_;
   std::vector<Eigen::Vector3f> measured_;
   std::vector<Eigen::Vector3f> normals_;

@@ -119,6 +119,7 @@ class VoxelMap {
   VoxelMapParams params_;
   float inv_voxel_size_;
   float inv_sub_size_;
+  static constexpr std::size_t kVoxelRoom = std::size_t{1} << 20;
   std::vector<Voxel> voxels_;
   std::vector<VoxelKey> keys_;        // key of voxels_[i]
   std::vector<std::uint32_t> table_;  // voxel index + 1; 0 = empty slot
