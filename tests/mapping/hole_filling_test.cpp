@@ -110,6 +110,25 @@ TEST(HoleFilling, LeavesAStepOpen) {
   EXPECT_EQ(holeFillingFaces(grid.faces, grid.positions, {}).size(), 2u);
 }
 
+TEST(HoleFilling, LeavesAGapInFoliageOpen) {
+  // The hole's corners lie flat, but every other vertex is 0.3 m up or down in turn: the faces
+  // around the hole lean every way, as in a hedge.
+  Grid grid(6, 0.2f);
+  for (int r = 0; r < grid.n; ++r) {
+    for (int c = 0; c < grid.n; ++c) {
+      const bool corner = (r == 2 || r == 3) && (c == 2 || c == 3);
+      if (!corner) grid.positions[grid.id(r, c)].z() = (r + c) % 2 == 0 ? 0.3f : -0.3f;
+    }
+  }
+  grid.punch(2, 2);
+  HoleFillStats stats;
+  EXPECT_TRUE(holeFillingFaces(grid.faces, grid.positions, {}, &stats).empty());
+  EXPECT_EQ(stats.rough, 1u);
+  HoleFillParams any_way;
+  any_way.min_normal_agreement = 0.0;
+  EXPECT_EQ(holeFillingFaces(grid.faces, grid.positions, any_way).size(), 2u);
+}
+
 TEST(HoleFilling, LeavesGapsWiderThanTheLongestEdgeOpen) {
   Grid grid(6, 0.7f);  // a quad 0.7 m a side: wider than max_edge_m (0.6)
   grid.punch(2, 2);

@@ -11,12 +11,16 @@
 //     the gap is one the mesher would have spanned);
 //   - that runs against the faces around it (the loop's area vector points away from their mean
 //     normal): the outline of a small island of faces runs with them and is not a hole;
+//   - whose faces around agree on which way the surface faces (the mean of their unit normals at
+//     least min_normal_agreement long): foliage, whose faces point every way, keeps its gaps;
 //   - whose corners lie within max_plane_distance_m of the plane through their centre that faces
 //     like the faces around (the mean of their normals): a kerb, a car's sill over the road, or a
 //     step between two surfaces is a real gap and stays open.
+// Where two holes touch at a vertex (two boundary edges leave it), a loop goes on by the edge met
+// first turning counter-clockwise from the one it came by: around the same hole.
 // It is closed by ear clipping in its plane with faces wound like the faces around, each of whose
 // edges is at most max_edge_m, none already in the mesh (the result stays an oriented manifold
-// where it was one). Loops through a vertex with two boundary edges leaving it are left alone.
+// where it was one).
 
 #include <cstddef>
 #include <vector>
