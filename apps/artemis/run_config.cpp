@@ -102,7 +102,6 @@ nlohmann::ordered_json configJson(const RunFlags& f, const std::string& dataset_
           {"hole_filling",
            {{"on", m.holes.enabled},
             {"max_loop_edges", m.holes.max_loop_edges},
-            {"max_edge_m", m.holes.max_edge_m},
             {"max_plane_distance_m", m.holes.max_plane_distance_m},
             {"min_normal_agreement", m.holes.min_normal_agreement}}},
           {"vehicle_box_m",

@@ -40,9 +40,9 @@ struct BoundaryEdge {
 
 class HoleFiller {
  public:
-  HoleFiller(const std::vector<Face>& faces, const std::vector<Eigen::Vector3f>& positions,
+  HoleFiller(const std::vector<Face>& faces, const std::vector<Eigen::Vector3f>& positions, double max_edge_m,
              const HoleFillParams& params)
-      : faces_(faces), positions_(positions), params_(params) {}
+      : faces_(faces), positions_(positions), max_edge_m_(max_edge_m), params_(params) {}
 
   std::vector<Face> run(HoleFillStats& stats) {
     indexHalfEdges();
@@ -193,7 +193,7 @@ class HoleFiller {
     for (std::size_t i = 0; i < n; ++i) {
       const Vector3d a = at(loop[i]) - centre;
       const Vector3d b = at(loop[(i + 1) % n]) - centre;
-      if ((b - a).norm() > params_.max_edge_m) return reject(stats.long_edges);
+      if ((b - a).norm() > max_edge_m_) return reject(stats.long_edges);
       area += a.cross(b);
       around += faceNormal(boundary_[edges[i]].face);
     }
@@ -246,7 +246,7 @@ class HoleFiller {
     while (left.size() > 3) {
       const std::size_t m = left.size();
       std::optional<std::size_t> best;
-      double best_length = params_.max_edge_m;
+      double best_length = max_edge_m_;
       for (std::size_t k = 0; k < m; ++k) {
         const std::size_t a = left[(k + m - 1) % m];
         const std::size_t b = left[k];
@@ -278,6 +278,7 @@ class HoleFiller {
 
   const std::vector<Face>& faces_;
   const std::vector<Eigen::Vector3f>& positions_;
+  double max_edge_m_;
   HoleFillParams params_;
   std::vector<HalfEdge> half_edges_;
   std::vector<BoundaryEdge> boundary_;  // sorted by `from`
@@ -287,13 +288,13 @@ class HoleFiller {
 }  // namespace
 
 std::vector<Face> holeFillingFaces(const std::vector<Face>& faces, const std::vector<Eigen::Vector3f>& positions,
-                                   const HoleFillParams& params, HoleFillStats* stats) {
+                                   double max_edge_m, const HoleFillParams& params, HoleFillStats* stats) {
   HoleFillStats local;
   HoleFillStats& s = stats != nullptr ? *stats : local;
   s = {};
   if (!params.enabled) return {};
   Stopwatch clock;
-  HoleFiller filler(faces, positions, params);
+  HoleFiller filler(faces, positions, max_edge_m, params);
   std::vector<Face> fills = filler.run(s);
   s.ms = clock.elapsedMs();
   return fills;

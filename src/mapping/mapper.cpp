@@ -215,13 +215,14 @@ std::size_t Mapper::finish() {
 }
 
 void Mapper::fillHoles() {
-  const std::vector<Face> fills = holeFillingFaces(mesh_.faces(), mesh_.positions(), params_.holes, &hole_stats_);
+  const std::vector<Face> fills =
+      holeFillingFaces(mesh_.faces(), mesh_.positions(), params_.mesher.max_edge_m, params_.holes, &hole_stats_);
   // Owned like the mesher's faces: by the voxel holding the centroid, else by the voxel of origin
   // of the smallest vertex id.
   std::map<VoxelKey, std::vector<Face>> by_owner;
   const float inv_size = 1.0f / map_.voxelSize();
+  const auto& p = mesh_.positions();
   for (const Face& f : fills) {
-    const auto& p = mesh_.positions();
     VoxelKey owner = voxelKeyOf((p[f[0]] + p[f[1]] + p[f[2]]) / 3.0f, inv_size);
     if (map_.find(owner) == nullptr) owner = mesh_.voxels()[std::min({f[0], f[1], f[2]})];
     by_owner[owner].push_back(f);

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "artemis/core/embree_ray.hpp"
+
 namespace artemis::render {
 
 struct RayCaster::Impl {
@@ -48,16 +50,15 @@ RayCaster::RayCaster(const MeshArrays& mesh) : impl_(std::make_unique<Impl>()) {
   rtcSetSceneBuildQuality(impl_->scene, RTC_BUILD_QUALITY_HIGH);
   if (!impl_->face_of_primitive.empty()) {
     RTCGeometry geometry = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
-    auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(
-        geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, 3 * sizeof(float), mesh.positions.size()));
+    auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                                 3 * sizeof(float), mesh.positions.size()));
     for (std::size_t i = 0; i < mesh.positions.size(); ++i) {
       // Non-finite vertices belong to no face in the scene; zero keeps Embree's bounds finite.
       const Eigen::Vector3f p = mesh.positions[i].allFinite() ? mesh.positions[i] : Eigen::Vector3f::Zero();
       for (int k = 0; k < 3; ++k) vertices[3 * i + static_cast<std::size_t>(k)] = p[k];
     }
-    auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                                   3 * sizeof(unsigned),
-                                                                   impl_->face_of_primitive.size()));
+    auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(
+        geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, 3 * sizeof(unsigned), impl_->face_of_primitive.size()));
     for (std::size_t i = 0; i < impl_->face_of_primitive.size(); ++i) {
       const auto& tri = mesh.triangles[impl_->face_of_primitive[i]];
       for (std::size_t k = 0; k < 3; ++k) indices[3 * i + k] = tri[k];
@@ -77,7 +78,9 @@ RayCaster::~RayCaster() {
   if (impl_->device != nullptr) rtcReleaseDevice(impl_->device);
 }
 
-std::size_t RayCaster::faces() const { return impl_->face_of_primitive.size(); }
+std::size_t RayCaster::faces() const {
+  return impl_->face_of_primitive.size();
+}
 
 RayHit RayCaster::intersect(const Eigen::Vector3f& origin_W, const Eigen::Vector3f& direction_W, float t_near,
                             float t_far) const {
@@ -85,17 +88,7 @@ RayHit RayCaster::intersect(const Eigen::Vector3f& origin_W, const Eigen::Vector
   if (impl_->face_of_primitive.empty() || !origin_W.allFinite() || !direction_W.allFinite()) return hit;
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
-  RTCRayHit rh{};
-  rh.ray.org_x = origin_W.x();
-  rh.ray.org_y = origin_W.y();
-  rh.ray.org_z = origin_W.z();
-  rh.ray.dir_x = direction_W.x();
-  rh.ray.dir_y = direction_W.y();
-  rh.ray.dir_z = direction_W.z();
-  rh.ray.tnear = t_near;
-  rh.ray.tfar = t_far;
-  rh.ray.mask = 0xFFFFFFFFU;
-  rh.hit.geomID = RTC_INVALID_GEOMETRY_ID;
+  RTCRayHit rh = embree::emptyRayHit(origin_W, direction_W, t_near, t_far);
   rtcIntersect1(impl_->scene, &context, &rh);
   if (rh.hit.geomID == RTC_INVALID_GEOMETRY_ID) return hit;
   hit.t = rh.ray.tfar;

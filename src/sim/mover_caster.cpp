@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "embree_ray.hpp"
+#include "artemis/core/embree_ray.hpp"
 
 namespace artemis::sim::detail {
 
@@ -88,7 +88,7 @@ MoverHit MoverCaster::Moment::intersect(const Eigen::Vector3f& origin, const Eig
                                         float t_far) const {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
-  RTCRayHit rh = emptyRayHit(origin, direction, t_near, t_far);
+  RTCRayHit rh = embree::emptyRayHit(origin, direction, t_near, t_far);
   rtcIntersect1(static_cast<RTCScene>(scene_), &context, &rh);
   MoverHit hit;
   if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID && rh.hit.instID[0] != RTC_INVALID_GEOMETRY_ID) {

@@ -6,7 +6,7 @@
 #include <stdexcept>
 #include <string>
 
-#include "embree_ray.hpp"
+#include "artemis/core/embree_ray.hpp"
 
 namespace artemis::sim::detail {
 
@@ -50,7 +50,7 @@ Hit Raycaster::intersect(const Eigen::Vector3f& origin, const Eigen::Vector3f& d
                          float t_far) const {
   RTCIntersectContext context;
   rtcInitIntersectContext(&context);
-  RTCRayHit rh = emptyRayHit(origin, direction, t_near, t_far);
+  RTCRayHit rh = embree::emptyRayHit(origin, direction, t_near, t_far);
   rtcIntersect1(impl_->scene, &context, &rh);
   Hit hit;
   if (rh.hit.geomID != RTC_INVALID_GEOMETRY_ID) {

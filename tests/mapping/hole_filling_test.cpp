@@ -14,6 +14,8 @@
 namespace artemis::mapping {
 namespace {
 
+constexpr double kMaxEdge = 0.6;  // the mesher's default longest edge
+
 // A flat grid of n x n vertices `step` apart at z = 0, its faces wound counter-clockwise seen
 // from above (normals +z); face 2 * (row * (n - 1) + col) and the next one make up each quad.
 struct Grid {
@@ -58,7 +60,7 @@ TEST(HoleFilling, ClosesAMissingQuadLikeTheFacesAround) {
   grid.punch(2, 2);
   ASSERT_EQ(test::boundaryEdges(grid.faces).size(), outline + 4);
   HoleFillStats stats;
-  const std::vector<Face> fills = holeFillingFaces(grid.faces, grid.positions, {}, &stats);
+  const std::vector<Face> fills = holeFillingFaces(grid.faces, grid.positions, kMaxEdge, {}, &stats);
   ASSERT_EQ(fills.size(), 2u);
   EXPECT_EQ(stats.filled, 1u);
   for (const Face& f : fills) EXPECT_GT(grid.normalZ(f), 0.99f);  // wound like the grid
@@ -76,7 +78,7 @@ TEST(HoleFilling, ClosesTwoHolesThatTouchAtACorner) {
   grid.punch(3, 3);  // shares vertex (3, 3) with quad (2, 2)
   grid.punch(2, 2);
   HoleFillStats stats;
-  const std::vector<Face> fills = holeFillingFaces(grid.faces, grid.positions, {}, &stats);
+  const std::vector<Face> fills = holeFillingFaces(grid.faces, grid.positions, kMaxEdge, {}, &stats);
   EXPECT_EQ(stats.filled, 2u);
   EXPECT_EQ(fills.size(), 4u);
   EXPECT_EQ(test::boundaryEdges(grid.with(fills)).size(), outline);
@@ -87,7 +89,7 @@ TEST(HoleFilling, LeavesAnIslandsOutlineAlone) {
   // One triangle on its own: its three edges are a loop, but one that runs with its face.
   const std::vector<Eigen::Vector3f> positions{{0, 0, 0}, {0.2f, 0, 0}, {0, 0.2f, 0}};
   HoleFillStats stats;
-  EXPECT_TRUE(holeFillingFaces({{0, 1, 2}}, positions, {}, &stats).empty());
+  EXPECT_TRUE(holeFillingFaces({{0, 1, 2}}, positions, kMaxEdge, {}, &stats).empty());
   EXPECT_EQ(stats.loops, 1u);
   EXPECT_EQ(stats.islands, 1u);
 }
@@ -101,13 +103,13 @@ TEST(HoleFilling, LeavesAStepOpen) {
   }
   grid.punch(2, 2);
   HoleFillStats stats;
-  EXPECT_TRUE(holeFillingFaces(grid.faces, grid.positions, {}, &stats).empty());
+  EXPECT_TRUE(holeFillingFaces(grid.faces, grid.positions, kMaxEdge, {}, &stats).empty());
   EXPECT_EQ(stats.bumpy, 1u);
   // A low step (2 cm, noise on a road) is closed.
   for (int r = 0; r < grid.n; ++r) {
     for (int c = 3; c < grid.n; ++c) grid.positions[grid.id(r, c)].z() = 0.02f;
   }
-  EXPECT_EQ(holeFillingFaces(grid.faces, grid.positions, {}).size(), 2u);
+  EXPECT_EQ(holeFillingFaces(grid.faces, grid.positions, kMaxEdge, {}).size(), 2u);
 }
 
 TEST(HoleFilling, LeavesAGapInFoliageOpen) {
@@ -122,26 +124,26 @@ TEST(HoleFilling, LeavesAGapInFoliageOpen) {
   }
   grid.punch(2, 2);
   HoleFillStats stats;
-  EXPECT_TRUE(holeFillingFaces(grid.faces, grid.positions, {}, &stats).empty());
+  EXPECT_TRUE(holeFillingFaces(grid.faces, grid.positions, kMaxEdge, {}, &stats).empty());
   EXPECT_EQ(stats.rough, 1u);
   HoleFillParams any_way;
   any_way.min_normal_agreement = 0.0;
-  EXPECT_EQ(holeFillingFaces(grid.faces, grid.positions, any_way).size(), 2u);
+  EXPECT_EQ(holeFillingFaces(grid.faces, grid.positions, kMaxEdge, any_way).size(), 2u);
 }
 
 TEST(HoleFilling, LeavesGapsWiderThanTheLongestEdgeOpen) {
-  Grid grid(6, 0.7f);  // a quad 0.7 m a side: wider than max_edge_m (0.6)
+  Grid grid(6, 0.7f);  // a quad 0.7 m a side: wider than the longest edge (0.6)
   grid.punch(2, 2);
   HoleFillStats stats;
-  EXPECT_TRUE(holeFillingFaces(grid.faces, grid.positions, {}, &stats).empty());
+  EXPECT_TRUE(holeFillingFaces(grid.faces, grid.positions, kMaxEdge, {}, &stats).empty());
   EXPECT_EQ(stats.long_edges, 1u);
   // Nor does a loop of more edges than allowed close: a 2 x 2 block of quads has 8 edges.
   Grid block(7, 0.1f);
   for (const auto& [r, c] : std::vector<std::pair<int, int>>{{3, 3}, {3, 2}, {2, 3}, {2, 2}}) block.punch(r, c);
   HoleFillParams six;
   six.max_loop_edges = 6;
-  EXPECT_TRUE(holeFillingFaces(block.faces, block.positions, six).empty());
-  EXPECT_EQ(holeFillingFaces(block.faces, block.positions, {}).size(), 6u);  // 8 corners: 6 faces
+  EXPECT_TRUE(holeFillingFaces(block.faces, block.positions, kMaxEdge, six).empty());
+  EXPECT_EQ(holeFillingFaces(block.faces, block.positions, kMaxEdge, {}).size(), 6u);  // 8 corners: 6 faces
 }
 
 TEST(HoleFilling, OffDoesNothing) {
@@ -149,7 +151,7 @@ TEST(HoleFilling, OffDoesNothing) {
   grid.punch(2, 2);
   HoleFillParams off;
   off.enabled = false;
-  EXPECT_TRUE(holeFillingFaces(grid.faces, grid.positions, off).empty());
+  EXPECT_TRUE(holeFillingFaces(grid.faces, grid.positions, kMaxEdge, off).empty());
 }
 
 }  // namespace

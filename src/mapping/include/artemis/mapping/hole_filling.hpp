@@ -34,7 +34,6 @@ namespace artemis::mapping {
 struct HoleFillParams {
   bool enabled = true;
   int max_loop_edges = 8;
-  double max_edge_m = 0.6;
   double max_plane_distance_m = 0.05;
   double min_normal_agreement = 0.75;  // |mean of the unit normals of the faces around|, at least
 };
@@ -53,8 +52,9 @@ struct HoleFillStats {
   double ms = 0.0;
 };
 
-// The faces that close the small holes of the mesh (`faces` over `positions`).
+// The faces that close the small holes of the mesh (`faces` over `positions`); `max_edge_m` is the
+// mesher's longest face edge (MesherParams::max_edge_m), which no loop or new face may exceed.
 std::vector<Face> holeFillingFaces(const std::vector<Face>& faces, const std::vector<Eigen::Vector3f>& positions,
-                                   const HoleFillParams& params, HoleFillStats* stats = nullptr);
+                                   double max_edge_m, const HoleFillParams& params, HoleFillStats* stats = nullptr);
 
 }  // namespace artemis::mapping

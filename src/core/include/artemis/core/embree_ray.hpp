@@ -1,12 +1,13 @@
 #pragma once
-// One Embree 3 ray with no hit yet, for the simulator's two casters (the static street and the
-// movers). Included only by the .cpp files that already use Embree.
+// One Embree 3 ray with no hit yet, for every caster that builds one (the simulator's static street
+// and movers, render's RayCaster). Header-only, and included only by .cpp files of modules that
+// link Embree: core itself does not.
 
 #include <embree3/rtcore.h>
 
 #include <Eigen/Core>
 
-namespace artemis::sim::detail {
+namespace artemis::embree {
 
 inline RTCRayHit emptyRayHit(const Eigen::Vector3f& origin, const Eigen::Vector3f& direction, float t_near,
                              float t_far) {
@@ -25,4 +26,4 @@ inline RTCRayHit emptyRayHit(const Eigen::Vector3f& origin, const Eigen::Vector3
   return rh;
 }
 
-}  // namespace artemis::sim::detail
+}  // namespace artemis::embree
