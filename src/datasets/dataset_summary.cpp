@@ -80,6 +80,7 @@ AggregatedCloud aggregateScans(const Dataset& dataset, double voxel_size_m, cons
     ++out.frames_used;
   }
   out.cloud_W = acc.centroids();
+  out.out_of_grid = acc.outOfBounds();
   return out;
 }
 

@@ -12,7 +12,11 @@ namespace fs = std::filesystem;
 
 Result<std::vector<std::string>> listStems(const fs::path& dir, const std::string& ext) {
   std::error_code ec;
-  if (!fs::is_directory(dir, ec)) return notFound(fmt::format("{}: folder not found", dir.string()));
+  const auto status = fs::status(dir, ec);
+  if (ec && ec != std::errc::no_such_file_or_directory) {
+    return ioError(fmt::format("{}: cannot be opened: {}", dir.string(), ec.message()));
+  }
+  if (!fs::is_directory(status)) return notFound(fmt::format("{}: folder not found", dir.string()));
   std::vector<std::string> stems;
   for (const auto& entry : fs::directory_iterator(dir, ec)) {
     if (entry.path().extension() == ext) stems.push_back(entry.path().stem().string());

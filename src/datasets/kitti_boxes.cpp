@@ -66,7 +66,7 @@ Result<std::size_t> frameOfFile(const fs::path& path) {
 
 // Appends the rows of one file; `tracking` is decided by its first row unless `object_only`.
 Status readFile(const fs::path& path, std::size_t object_frame, bool object_only, KittiBoxLabels& out) {
-  auto lines = readLines(path);
+  auto lines = readLines(path, io::limits::kTextTable);
   if (!lines) return lines.status();
   bool form_known = false;
   for (std::size_t i = 0; i < lines->size(); ++i) {

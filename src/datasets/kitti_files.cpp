@@ -6,25 +6,23 @@
 #include <charconv>
 #include <cmath>
 #include <cstring>
-#include <fstream>
-#include <sstream>
 
 namespace artemis::datasets {
 namespace fs = std::filesystem;
 
-Result<std::vector<std::string>> readLines(const fs::path& path) {
-  std::ifstream in(path);
-  if (!in) {
-    return fs::exists(path) ? ioError(fmt::format("{}: cannot be opened", path.string()))
-                            : notFound(fmt::format("{}: file not found", path.string()));
-  }
+Result<std::vector<std::string>> readLines(const fs::path& path, const io::FileLimit& limit) {
+  auto text = io::readTextFile(path, limit);
+  if (!text) return text.status();
   std::vector<std::string> lines;
-  std::string line;
-  while (std::getline(in, line)) {
+  std::size_t pos = 0;
+  while (pos < text->size()) {
+    std::size_t stop = text->find('\n', pos);
+    if (stop == std::string::npos) stop = text->size();
+    std::string line = text->substr(pos, stop - pos);
     if (!line.empty() && line.back() == '\r') line.pop_back();
     lines.push_back(std::move(line));
+    pos = stop + 1;
   }
-  if (in.bad()) return ioError(fmt::format("{}: read error", path.string()));
   return lines;
 }
 
@@ -51,7 +49,7 @@ Result<std::vector<double>> parseNumbers(const std::string& line, const std::str
 }
 
 Result<CalibFile> CalibFile::read(const fs::path& path) {
-  auto lines = readLines(path);
+  auto lines = readLines(path, io::limits::kCalibration);
   if (!lines) return lines.status();
   CalibFile calib;
   calib.path_ = path;
@@ -70,7 +68,10 @@ Result<CalibFile> CalibFile::read(const fs::path& path) {
     const bool looks_numeric =
         first != std::string::npos && (std::isdigit(static_cast<unsigned char>(rest[first])) != 0 ||
                                        rest[first] == '-' || rest[first] == '+' || rest[first] == '.');
-    if (key == "calib_time" || !looks_numeric) continue;
+    if (key == "calib_time" || !looks_numeric) {
+      calib.text_[key] = {static_cast<int>(i + 1), rest.substr(first == std::string::npos ? rest.size() : first)};
+      continue;
+    }
     auto values = parseNumbers(rest, fmt::format("{} ('{}')", where, key));
     if (!values) return values.status();
     calib.numbers_[key] = std::move(values.value());
@@ -82,6 +83,10 @@ Result<CalibFile> CalibFile::read(const fs::path& path) {
 Result<std::vector<double>> CalibFile::numbers(const std::string& key, std::size_t expected_count) const {
   const auto it = numbers_.find(key);
   if (it == numbers_.end()) {
+    if (const auto text = text_.find(key); text != text_.end()) {
+      return parseError(fmt::format("{} line {}: '{}' needs {} numbers, found '{}'", path_.string(), text->second.first,
+                                    key, expected_count, text->second.second));
+    }
     return parseError(fmt::format("{}: key '{}' is missing", path_.string(), key));
   }
   if (it->second.size() != expected_count) {
@@ -96,26 +101,8 @@ Result<std::vector<double>> CalibFile::numbers(const std::string& key, std::size
   return it->second;
 }
 
-namespace {
-
-Result<std::vector<char>> readBinary(const fs::path& path) {
-  std::error_code ec;
-  if (!fs::exists(path, ec)) return notFound(fmt::format("{}: file not found", path.string()));
-  const auto size = fs::file_size(path, ec);
-  if (ec) return ioError(fmt::format("{}: cannot read size: {}", path.string(), ec.message()));
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return ioError(fmt::format("{}: cannot be opened", path.string()));
-  std::vector<char> bytes(static_cast<std::size_t>(size));
-  if (!in.read(bytes.data(), static_cast<std::streamsize>(size))) {
-    return ioError(fmt::format("{}: read error after {} of {} bytes", path.string(), in.gcount(), size));
-  }
-  return bytes;
-}
-
-}  // namespace
-
 Result<PointCloud> readVelodyneBin(const fs::path& path) {
-  auto bytes = readBinary(path);
+  auto bytes = io::readFileBytes(path, io::limits::kScan);
   if (!bytes) return bytes.status();
   constexpr std::size_t kPointBytes = 4 * sizeof(float);
   if (bytes->empty()) return parseError(fmt::format("{}: empty scan (0 bytes)", path.string()));
@@ -130,7 +117,7 @@ Result<PointCloud> readVelodyneBin(const fs::path& path) {
   PointCloud cloud;
   cloud.points.resize(n);
   cloud.intensity.resize(n);
-  const char* src = bytes->data();
+  const unsigned char* src = bytes->data();
   for (std::size_t i = 0; i < n; ++i) {
     std::array<float, 4> v{};
     std::memcpy(v.data(), src + i * kPointBytes, kPointBytes);
@@ -141,7 +128,7 @@ Result<PointCloud> readVelodyneBin(const fs::path& path) {
 }
 
 Result<std::vector<std::uint32_t>> readLabelFile(const fs::path& path, std::size_t expected_points) {
-  auto bytes = readBinary(path);
+  auto bytes = io::readFileBytes(path, io::limits::kPointLabels);
   if (!bytes) return bytes.status();
   if (bytes->size() % sizeof(std::uint32_t) != 0) {
     return parseError(
@@ -190,7 +177,7 @@ Result<double> parseKittiTimestamp(const std::string& text) {
 }
 
 Result<std::vector<double>> readTimestampFile(const fs::path& path) {
-  auto lines = readLines(path);
+  auto lines = readLines(path, io::limits::kTextTable);
   if (!lines) return lines.status();
   while (!lines->empty() && lines->back().find_first_not_of(" \t") == std::string::npos) lines->pop_back();
   std::vector<double> stamps;

@@ -8,7 +8,16 @@ namespace artemis::datasets {
 
 Result<std::unique_ptr<Dataset>> openDataset(const std::filesystem::path& path, DatasetFormat format,
                                              const DatasetOptions& options) {
-  if (!std::filesystem::exists(path)) return notFound(fmt::format("{}: no such folder", path.string()));
+  std::error_code ec;
+  const auto status = std::filesystem::status(path, ec);
+  if (ec && ec != std::errc::no_such_file_or_directory) {
+    // A folder that cannot be searched, a link loop: not the same as a path that does not exist.
+    return ioError(fmt::format("{}: cannot be opened: {}", path.string(), ec.message()));
+  }
+  if (!std::filesystem::exists(status)) return notFound(fmt::format("{}: no such folder", path.string()));
+  if (!std::filesystem::is_directory(status)) {
+    return invalidArgument(fmt::format("{}: is a file; a dataset is a folder", path.string()));
+  }
   if (options.min_range_m < 0.0 || !(options.max_range_m > options.min_range_m)) {
     return invalidArgument(fmt::format("range gate {}-{} m is empty", options.min_range_m, options.max_range_m));
   }

@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <array>
 #include <cmath>
 
 #include "artemis/datasets/kitti_files.hpp"
@@ -14,7 +15,7 @@ constexpr std::size_t kOxtsFields = 30;
 }  // namespace
 
 Result<OxtsPacket> readOxtsFile(const std::filesystem::path& path) {
-  auto lines = readLines(path);
+  auto lines = readLines(path, io::limits::kOxtsPacket);
   if (!lines) return lines.status();
   if (lines->empty()) return parseError(fmt::format("{}: empty OXTS file", path.string()));
   auto v = parseNumbers(lines->front(), path.string() + " line 1");
@@ -29,8 +30,26 @@ Result<OxtsPacket> readOxtsFile(const std::filesystem::path& path) {
           fmt::format("{} line 1: field {} (lat lon alt roll pitch yaw) is not finite", path.string(), i + 1));
     }
   }
-  if (std::abs((*v)[0]) >= 90.0) {
-    return parseError(fmt::format("{} line 1: latitude {} is out of range", path.string(), (*v)[0]));
+  // Each field within what a GPS/IMU on the Earth can report; outside, one packet would throw the
+  // whole trajectory across the planet (Mercator of longitude 1e300) with no error.
+  struct Range {
+    const char* name;
+    double min;
+    double max;
+  };
+  constexpr std::array<Range, 6> kRanges{{{"latitude (degrees)", -90.0, 90.0},
+                                          {"longitude (degrees)", -180.0, 180.0},
+                                          {"altitude (m)", -1000.0, 20000.0},
+                                          {"roll (rad)", -2.0 * M_PI, 2.0 * M_PI},
+                                          {"pitch (rad)", -2.0 * M_PI, 2.0 * M_PI},
+                                          {"yaw (rad)", -2.0 * M_PI, 2.0 * M_PI}}};
+  for (std::size_t i = 0; i < kRanges.size(); ++i) {
+    const double value = (*v)[i];
+    const bool open_end = i == 0;  // the poles themselves have no Mercator y
+    if (value < kRanges[i].min || value > kRanges[i].max || (open_end && std::abs(value) >= kRanges[i].max)) {
+      return parseError(fmt::format("{} line 1: {} {} is out of range ({} to {})", path.string(), kRanges[i].name,
+                                    value, kRanges[i].min, kRanges[i].max));
+    }
   }
   return OxtsPacket{(*v)[0], (*v)[1], (*v)[2], (*v)[3], (*v)[4], (*v)[5]};
 }

@@ -10,7 +10,7 @@ namespace artemis::datasets {
 namespace fs = std::filesystem;
 
 Result<std::vector<Isometry3d>> readPoseFile(const fs::path& path) {
-  auto lines = readLines(path);
+  auto lines = readLines(path, io::limits::kTextTable);
   if (!lines) return lines.status();
   while (!lines->empty() && lines->back().find_first_not_of(" \t") == std::string::npos) lines->pop_back();
   std::vector<Isometry3d> poses;

@@ -65,6 +65,19 @@ Status appendFaces(const io::PlyElement& faces, const io::PlyProperty& indices, 
   return status;
 }
 
+// A NaN or infinite vertex would be scored, drawn or sampled as if it were a place.
+Status checkFinite(const std::vector<Eigen::Vector3f>& vertices, const std::string& file) {
+  std::size_t bad = 0;
+  std::size_t first = 0;
+  for (std::size_t i = 0; i < vertices.size(); ++i) {
+    if (vertices[i].allFinite()) continue;
+    if (bad++ == 0) first = i;
+  }
+  if (bad == 0) return Status::ok();
+  return parseError(fmt::format("{}: vertex {} is not finite ({} of {} vertices have NaN or infinite coordinates)",
+                                file, first, bad, vertices.size()));
+}
+
 }  // namespace
 
 Result<MeshArrays> readMeshArrays(const std::filesystem::path& path) {
@@ -87,6 +100,7 @@ Result<MeshArrays> readMeshArrays(const std::filesystem::path& path) {
   }
   mesh.vertices.resize(vertex->count);
   for (std::size_t i = 0; i < vertex->count; ++i) mesh.vertices[i] = {xyz[0][i], xyz[1][i], xyz[2][i]};
+  if (Status s = checkFinite(mesh.vertices, file); !s.isOk()) return s;
   if (vertex->find("red") != nullptr && vertex->find("green") != nullptr && vertex->find("blue") != nullptr) {
     std::array<std::vector<std::uint8_t>, 3> rgb;
     const std::array<const char*, 3> channels = {"red", "green", "blue"};

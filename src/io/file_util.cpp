@@ -32,36 +32,6 @@ std::filesystem::path tempPathFor(const std::filesystem::path& target) {
 
 }  // namespace
 
-Result<std::vector<unsigned char>> readFileBytes(const std::filesystem::path& path) {
-  const std::string name = path.string();
-  std::error_code ec;
-  const auto status = std::filesystem::status(path, ec);
-  if (!std::filesystem::exists(status)) return notFound(name + ": no such file");
-  if (std::filesystem::is_directory(status)) return ioError(name + ": is a directory, not a file");
-
-  std::FILE* file = std::fopen(name.c_str(), "rb");
-  if (file == nullptr) return ioError(name + ": cannot open: " + errnoText());
-  // Read up to one byte past the reported size, then on in large blocks until EOF: the size
-  // is a hint, and the file may grow or shrink under us.
-  constexpr std::size_t kBlock = std::size_t{1} << 24;
-  const auto size_hint = std::filesystem::file_size(path, ec);
-  std::size_t chunk = ec ? kBlock : static_cast<std::size_t>(size_hint) + 1;
-  std::vector<unsigned char> bytes;
-  std::size_t used = 0;
-  for (;;) {
-    bytes.resize(used + chunk);
-    const std::size_t got = std::fread(bytes.data() + used, 1, chunk, file);
-    used += got;
-    if (got < chunk) break;
-    chunk = kBlock;
-  }
-  const bool failed = std::ferror(file) != 0;
-  std::fclose(file);
-  bytes.resize(used);
-  if (failed) return ioError(name + ": read failed");
-  return bytes;
-}
-
 AtomicFile::~AtomicFile() {
   if (file_ != nullptr) std::fclose(file_);
   if (!temp_.empty()) {

@@ -1,5 +1,5 @@
 #pragma once
-// Private helpers of the io module: whole-file reads and atomic writes, shared by PLY and PNG.
+// Private helper of the io module: atomic writes, shared by PLY, PNG and whole-file writes.
 
 #include <cstddef>
 #include <cstdio>
@@ -10,9 +10,6 @@
 #include "artemis/core/status.hpp"
 
 namespace artemis::io::detail {
-
-// The whole file in memory. NotFound when it does not exist; IoError when it cannot be read.
-Result<std::vector<unsigned char>> readFileBytes(const std::filesystem::path& path);
 
 // A file written under a temporary name next to its target and renamed into place by commit().
 // Destroyed without a successful commit(), it removes the temporary file: the target is never

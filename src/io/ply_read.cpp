@@ -11,7 +11,7 @@
 #include <string_view>
 
 #include "artemis/io/ply.hpp"
-#include "file_util.hpp"
+#include "artemis/io/read_file.hpp"
 #include "ply_detail.hpp"
 
 namespace artemis::io {
@@ -322,7 +322,16 @@ class BinaryReader {
 
 Result<PlyData> readPly(const std::filesystem::path& path) {
   const std::string file = path.string();
-  auto bytes = detail::readFileBytes(path);
+  // The header first: a large file that is not a PLY (or whose header is broken) is refused after
+  // reading its first bytes, not the whole file.
+  constexpr std::size_t kHeaderBytes = std::size_t{1} << 20;
+  auto head = readFileHead(path, limits::kMesh, kHeaderBytes);
+  if (!head) return head.status();
+  if (auto header = parseHeader(*head, file); !header) {
+    if (head->size() < kHeaderBytes) return header.status();
+    return parseError(file + ": no end_header line in the first 1 MiB (" + header.status().message() + ")");
+  }
+  auto bytes = readFileBytes(path, limits::kMesh);
   if (!bytes) return bytes.status();
   auto header = parseHeader(*bytes, file);
   if (!header) return header.status();

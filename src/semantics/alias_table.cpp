@@ -1,11 +1,10 @@
 #include "artemis/semantics/alias_table.hpp"
+#include "artemis/io/read_file.hpp"
 
 #include <fmt/format.h>
 
 #include <cctype>
-#include <fstream>
 #include <nlohmann/json.hpp>
-#include <sstream>
 #include <stdexcept>
 
 namespace artemis::embedded {
@@ -164,11 +163,9 @@ Result<AliasTable> AliasTable::parse(std::string_view json, const std::string& o
 }
 
 Result<AliasTable> AliasTable::load(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return notFound(fmt::format("{}: cannot open the alias file", path.string()));
-  std::stringstream text;
-  text << in.rdbuf();
-  return parse(text.str(), path.string());
+  auto text = io::readTextFile(path, io::limits::kJson);
+  if (!text) return Status(text.status().code(), text.status().message() + " (the alias file)");
+  return parse(*text, path.string());
 }
 
 AliasTable AliasTable::extendedWith(const AliasTable& user) const {

@@ -1,10 +1,10 @@
 #include "artemis/semantics/dense_model.hpp"
+#include "artemis/io/read_file.hpp"
 
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <cmath>
-#include <fstream>
 #include <nlohmann/json.hpp>
 #include <set>
 
@@ -130,19 +130,9 @@ Result<DenseModelConfig> DenseModelConfig::parse(std::string_view json, const st
 }
 
 Result<DenseModelConfig> DenseModelConfig::load(const std::filesystem::path& path, const Vocabulary& vocabulary) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) {
-    return notFound(fmt::format("{}: no such model config file", path.string()));
-  }
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return notFound(fmt::format("{}: cannot open the model config", path.string()));
-  std::string text(kMaxConfigBytes + 1, '\0');
-  in.read(text.data(), static_cast<std::streamsize>(text.size()));
-  text.resize(static_cast<std::size_t>(in.gcount()));
-  if (text.size() > kMaxConfigBytes) {
-    return parseError(fmt::format("{}: larger than {} bytes: not a model config", path.string(), kMaxConfigBytes));
-  }
-  return parse(text, path.string(), vocabulary);
+  auto text = io::readTextFile(path, io::FileLimit{kMaxConfigBytes, "a model config"});
+  if (!text) return text.status();
+  return parse(*text, path.string(), vocabulary);
 }
 
 LabelToPrompts::LabelToPrompts(const DenseModelConfig& config, const std::vector<ClassId>& prompts)

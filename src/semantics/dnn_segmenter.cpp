@@ -1,5 +1,6 @@
 // OpenCV's headers stay in this file (DESIGN.md: heavy headers in single .cpp files).
 #include "artemis/semantics/dnn_segmenter.hpp"
+#include "artemis/io/read_file.hpp"
 
 #include <fmt/format.h>
 
@@ -171,8 +172,7 @@ const DenseModelConfig& DnnSegmenter::config() const {
 }
 
 Result<std::unique_ptr<DnnSegmenter>> DnnSegmenter::open(const fs::path& model, DenseModelConfig config, int threads) {
-  std::error_code ec;
-  if (!fs::is_regular_file(model, ec)) return notFound(fmt::format("{}: no such model file", model.string()));
+  if (auto checked = io::checkInputFile(model, io::limits::kModel); !checked) return checked.status();
   auto impl = std::make_unique<Impl>();
   impl->config = std::move(config);
   impl->model = model;

@@ -3,13 +3,12 @@
 #include <fmt/format.h>
 
 #include <algorithm>
-#include <fstream>
 #include <nlohmann/json.hpp>
-#include <sstream>
 #include <utility>
 #include <vector>
 
 #include "artemis/io/png.hpp"
+#include "artemis/io/read_file.hpp"
 
 namespace artemis::semantics {
 
@@ -45,11 +44,10 @@ Result<SemanticObservation> MaskFileSegmenter::segment(const SegmentRequest& req
 
   nlohmann::json j;
   {
-    std::ifstream in(json, std::ios::binary);
-    std::stringstream text;
-    text << in.rdbuf();
+    auto text = io::readTextFile(json, io::limits::kJson);
+    if (!text) return text.status();
     try {
-      j = nlohmann::json::parse(text.str());
+      j = nlohmann::json::parse(*text);
     } catch (const nlohmann::json::exception& e) {
       return parseError(fmt::format("{}: not valid JSON: {}", json.string(), e.what()));
     }

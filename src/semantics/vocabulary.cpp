@@ -1,12 +1,11 @@
 #include "artemis/semantics/vocabulary.hpp"
+#include "artemis/io/read_file.hpp"
 
 #include <fmt/format.h>
 
 #include <algorithm>
 #include <cctype>
-#include <fstream>
 #include <nlohmann/json.hpp>
-#include <sstream>
 
 namespace artemis::embedded {
 std::string_view semanticKittiVocabulary();
@@ -99,11 +98,9 @@ Result<Vocabulary> Vocabulary::parse(std::string_view json, const std::string& o
 }
 
 Result<Vocabulary> Vocabulary::load(const std::filesystem::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) return notFound(fmt::format("{}: cannot open the vocabulary file", path.string()));
-  std::stringstream text;
-  text << in.rdbuf();
-  return parse(text.str(), path.string());
+  auto text = io::readTextFile(path, io::limits::kJson);
+  if (!text) return Status(text.status().code(), text.status().message() + " (the vocabulary file)");
+  return parse(*text, path.string());
 }
 
 const SemanticClass* Vocabulary::find(ClassId id) const {

@@ -9,6 +9,7 @@
 #include <limits>
 
 #include "artemis/datasets/dataset.hpp"
+#include "artemis/datasets/dataset_summary.hpp"
 #include "artemis/io/png.hpp"
 #include "support/test_support.hpp"
 
@@ -151,6 +152,12 @@ TEST_F(OdometryFixture, MalformedCalibrationLine) {
   ASSERT_FALSE(ds.isOk());
   expectMentions(ds.status(), "calib.txt line 2", "'Tr' needs 12 numbers, found 11");
 
+  // Text where numbers belong is named as such, not as a missing key.
+  std::ofstream(seq_ / "calib.txt") << "P2: 700 0 600 40 0 700 180 0 0 0 1 0\nTr: abc\n";
+  ds = open();
+  ASSERT_FALSE(ds.isOk());
+  expectMentions(ds.status(), "calib.txt line 2", "'Tr' needs 12 numbers, found 'abc'");
+
   std::ofstream(seq_ / "calib.txt") << "P2: 700 0 600 40 0 700 180 0 0 0 1 0\nthis line has no key\n";
   ds = open();
   ASSERT_FALSE(ds.isOk());
@@ -188,6 +195,20 @@ TEST_F(OdometryFixture, SequentialReadingEndsWithEndOfData) {
   EXPECT_EQ((*ds)->next().status().code(), StatusCode::kEndOfData);
   (*ds)->rewind();
   EXPECT_EQ((*ds)->next()->index, 0u);
+}
+
+// The voxel grid's keys reach 2^20 voxels from the origin: at 5 um that is 5 m, and the ring of
+// scan points lies 10 m out. What the grid cannot hold is counted, never silently lost.
+TEST_F(OdometryFixture, AggregationCountsThePointsBeyondItsGrid) {
+  auto ds = open();
+  ASSERT_TRUE(ds.isOk());
+  const auto fine = aggregateScans(**ds, 5e-6);
+  EXPECT_EQ(fine.points_in, static_cast<std::size_t>(kFrames * kPoints));
+  EXPECT_EQ(fine.out_of_grid, fine.points_in);
+  EXPECT_EQ(fine.cloud_W.size(), 0u);
+  const auto normal = aggregateScans(**ds, 0.05);
+  EXPECT_EQ(normal.out_of_grid, 0u);
+  EXPECT_GT(normal.cloud_W.size(), 0u);
 }
 
 TEST_F(OdometryFixture, MissingFolderAndUnknownLayout) {

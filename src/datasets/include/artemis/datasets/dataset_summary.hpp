@@ -45,6 +45,7 @@ struct AggregatedCloud {
   std::size_t frames_used = 0;
   std::size_t points_in = 0;       // range-gated points before downsampling (after the scan filter)
   std::size_t points_removed = 0;  // range-gated points the scan filter took out
+  std::size_t out_of_grid = 0;     // points beyond the voxel grid's key range (2^20 voxels from the origin)
   std::vector<std::string> errors;
 };
 

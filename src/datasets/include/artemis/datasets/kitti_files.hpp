@@ -6,10 +6,12 @@
 #include <filesystem>
 #include <map>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "artemis/core/point_cloud.hpp"
 #include "artemis/core/status.hpp"
+#include "artemis/io/read_file.hpp"
 
 namespace artemis::datasets {
 
@@ -29,6 +31,7 @@ class CalibFile {
   std::filesystem::path path_;
   std::map<std::string, std::vector<double>> numbers_;
   std::map<std::string, int> line_of_;
+  std::map<std::string, std::pair<int, std::string>> text_;  // line and text of the non-numeric keys
 };
 
 // KITTI Velodyne scan: float32 x, y, z, reflectance per point, little endian. A file whose size
@@ -39,8 +42,9 @@ Result<PointCloud> readVelodyneBin(const std::filesystem::path& path);
 // `expected_points` is checked against the file size.
 Result<std::vector<std::uint32_t>> readLabelFile(const std::filesystem::path& path, std::size_t expected_points);
 
-// Lines of a text file, trailing '\r' removed; the last line may lack its newline.
-Result<std::vector<std::string>> readLines(const std::filesystem::path& path);
+// Lines of a text file, trailing '\r' removed; the last line may lack its newline. The file is
+// read as io::readTextFile reads it: a regular file within `limit`.
+Result<std::vector<std::string>> readLines(const std::filesystem::path& path, const io::FileLimit& limit);
 
 // "2011-09-26 13:10:51.158069617" (UTC) as seconds since 1970-01-01.
 Result<double> parseKittiTimestamp(const std::string& text);
