@@ -1,6 +1,7 @@
 // artemis ground "phrase": the classes of the vocabulary a natural-language query names (alias
 // table + WordNet, artemis/semantics/query_grounder.hpp). Exit codes follow grep: 0 when some class
-// matches, 1 when none does, 2 when the query or a file is invalid.
+// matches, 1 when none does, 2 when the query or a file is invalid. --json answers the same as the
+// text: bytes of the query that are not UTF-8 are written as U+FFFD.
 #include <fmt/format.h>
 
 #include <memory>
@@ -11,6 +12,7 @@
 #include "artemis/core/log.hpp"
 #include "artemis/semantics/query_grounder.hpp"
 #include "commands.hpp"
+#include "viewer/utf8.hpp"
 
 namespace artemis::cli {
 namespace {
@@ -25,6 +27,24 @@ struct GroundFlags {
   std::string vocabulary;
   std::string aliases;
 };
+
+// `g` with every text that came from the query made UTF-8, so that JSON can hold it (the classes
+// and the alias, vocabulary and WordNet texts are UTF-8 already: they come from JSON and WordNet).
+semantics::Grounding validUtf8(semantics::Grounding g) {
+  const auto fix = [](std::string& text) { text = viewer::toValidUtf8(text); };
+  fix(g.query);
+  for (semantics::Match& m : g.matches) {
+    fix(m.term);
+    fix(m.lemma);
+  }
+  for (std::string& term : g.unmatched) fix(term);
+  for (semantics::Ambiguity& a : g.ambiguous) {
+    fix(a.term);
+    fix(a.reason);
+  }
+  for (std::string& term : g.ignored) fix(term);
+  return g;
+}
 
 int runGround(const GroundFlags& flags) {
   semantics::Vocabulary vocabulary = semantics::Vocabulary::semanticKitti();
@@ -62,7 +82,7 @@ int runGround(const GroundFlags& flags) {
   }
   const std::string text = semantics::describe(*grounding, grounder->vocabulary());
   if (flags.json) {
-    fmt::print("{}\n", semantics::toJson(*grounding, grounder->vocabulary()));
+    fmt::print("{}\n", semantics::toJson(validUtf8(*grounding), grounder->vocabulary()));
     // The person-readable answer's first line ("no class matches 'X'") goes to the log.
     if (grounding->classes.empty()) log::warn("{}", text.substr(0, text.find('\n')));
   } else {

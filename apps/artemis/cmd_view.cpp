@@ -1,8 +1,6 @@
 // artemis view RUN: the browser viewer on a finished run: the textured mesh, class colours,
 // the trajectory, and queries highlighted on the surface.
-#include <fmt/format.h>
 
-#include <cstdio>
 #include <memory>
 #include <string>
 
@@ -75,8 +73,7 @@ int runView(const ViewFlags& flags) {
   }
   log::info("{}: {} vertices, {} faces in {} blocks, loaded in {:.1f} s", flags.run, mesh->positions.size(),
             mesh->triangles.size(), scene.infoJson()["blocks"].get<std::size_t>(), clock.elapsedS());
-  fmt::print("viewer: {} (Ctrl-C to stop)\n", server.url());
-  std::fflush(stdout);
+  viewer::announce(server, "Ctrl-C to stop");
   viewer::waitForInterrupt(flags.exit_after_s);
   server.stop();
   return 0;

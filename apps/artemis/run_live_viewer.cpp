@@ -1,11 +1,8 @@
 #include "run_live_viewer.hpp"
 
-#include <fmt/format.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdint>
-#include <cstdio>
 #include <filesystem>
 #include <vector>
 
@@ -44,8 +41,7 @@ Result<std::unique_ptr<LiveViewer>> startLiveViewer(RunFlags& flags, const datas
     if (brush != nullptr) live_viewer->scene.setInfo("classes", viewer::classesJson(*vocabulary, brush->prompts()));
     live_viewer->publisher->onFrame(update);
   };
-  fmt::print("viewer: {} (live)\n", live->server->url());
-  std::fflush(stdout);
+  viewer::announce(*live->server, "live");
   return live;
 }
 

@@ -94,6 +94,41 @@ TEST(CliGround, NoClassExitsWithOne) {
   EXPECT_NE(partial.out.find("no class matches 'unicorns'"), std::string::npos) << partial.out;
 }
 
+// Bytes that are not UTF-8 (a Latin-1 terminal): --json grounds the query as the text answer does
+// and writes them as U+FFFD, valid JSON.
+TEST(CliGround, JsonAnswersAQueryThatIsNotUtf8AsTheTextDoes) {
+  const std::string replacement = "\xEF\xBF\xBD";
+  const auto text = ground("'cars and unicorns\xFF'");
+  const auto json = ground("'cars and unicorns\xFF' --json");
+  EXPECT_EQ(text.exit_code, 0) << text.err;
+  EXPECT_EQ(text.out.substr(0, text.out.find('\n')), "car");
+  ASSERT_EQ(json.exit_code, 0) << json.err;
+  EXPECT_EQ(json.err.find("json.exception"), std::string::npos) << json.err;
+  const auto j = nlohmann::json::parse(json.out);
+  EXPECT_EQ(j["classes"], nlohmann::json::array({"car"}));
+  EXPECT_EQ(j["unmatched"], nlohmann::json::array({"unicorns" + replacement}));
+  ASSERT_EQ(j["matches"].size(), 1U);
+  EXPECT_EQ(j["matches"][0]["term"], "cars");
+
+  // The same exit code and classes either way, whatever the grounder makes of the bytes.
+  for (const char* query : {"'car\xFF'", "'\xFF\xFEpeople'", "'car\xC3\x28 and poles'", "'sedans \xE9t\xE9'"}) {
+    const auto plain = ground(query);
+    const auto as_json = ground(std::string(query) + " --json");
+    EXPECT_EQ(as_json.exit_code, plain.exit_code) << query << ": " << as_json.err;
+    EXPECT_EQ(as_json.err.find("json.exception"), std::string::npos) << query << ": " << as_json.err;
+    const auto answer = nlohmann::json::parse(as_json.out);
+    std::string classes;
+    for (const auto& name : answer["classes"]) classes += (classes.empty() ? "" : ", ") + name.get<std::string>();
+    const std::string first_line = plain.out.substr(0, plain.out.find('\n'));
+    if (plain.exit_code == 0) {
+      EXPECT_EQ(classes, first_line) << query;
+    } else {
+      EXPECT_EQ(classes, "") << query;
+      EXPECT_EQ(first_line.rfind("no class matches", 0), 0U) << query;
+    }
+  }
+}
+
 TEST(CliGround, InvalidInputExitsWithTwo) {
   const auto empty = ground("'   '");
   EXPECT_EQ(empty.exit_code, 2);

@@ -6,9 +6,12 @@
 
 #include <chrono>
 #include <cstdlib>
+#include <exception>
 #include <thread>
 
 #include "artemis/core/log.hpp"
+#include "listen_address.hpp"
+#include "utf8.hpp"
 
 namespace artemis::viewer {
 
@@ -31,9 +34,71 @@ std::string contentType(const fs::path& file) {
   return "application/octet-stream";
 }
 
+constexpr int kMaxWorkerThreads = 256;
+
+// Bytes that are not UTF-8 (a folder's name in the title, a path echoed back) become U+FFFD
+// instead of making dump() throw.
+std::string dumpJson(const nlohmann::json& j) {
+  return j.dump(-1, ' ', false, nlohmann::json::error_handler_t::replace);
+}
+
+// {"error": message}, which the page shows.
 void sendError(httplib::Response& res, int status, const std::string& message) {
   res.status = status;
-  res.set_content(nlohmann::json{{"error", message}}.dump(), "application/json");
+  res.set_content(dumpJson({{"error", message}}), "application/json");
+}
+
+std::string whatOf(const std::exception_ptr& thrown) {
+  try {
+    if (thrown) std::rethrow_exception(thrown);
+  } catch (const std::exception& e) {
+    return e.what();
+  } catch (...) {
+  }
+  return "an exception that is not a std::exception";
+}
+
+// A short answer that tells a client nothing of the server's insides.
+void sendPlain(httplib::Response& res, int status, const char* text) {
+  res.status = status;
+  res.set_content(text, "text/plain; charset=utf-8");
+}
+
+// Whether the decoded path and every query parameter are UTF-8: the handlers echo them into JSON
+// and hand them to the query grounder.
+bool isUtf8Request(const httplib::Request& req) {
+  if (!isValidUtf8(req.path)) return false;
+  for (const auto& [key, value] : req.params) {
+    if (!isValidUtf8(key) || !isValidUtf8(value)) return false;
+  }
+  return true;
+}
+
+// httplib's server, and the socket it listens on (to tell the address it bound).
+class HttpServer final : public httplib::Server {
+ public:
+  [[nodiscard]] int listeningSocket() const { return svr_sock_; }
+};
+
+Status checkParams(const ServerParams& p) {
+  const fs::path& assets = p.assets;
+  std::error_code ec;
+  if (!fs::exists(assets / "index.html", ec)) {
+    return notFound(
+        fmt::format("{}: no index.html: the viewer's assets are not there (set ARTEMIS_VIEWER_DIR)", assets.string()));
+  }
+  if (!fs::exists(assets / "node_modules" / "three" / "build" / "three.module.js", ec)) {
+    return notFound(fmt::format("{}: three.js is not installed; run scripts/install-deps.sh (npm ci --prefix {})",
+                                (assets / "node_modules" / "three").string(), assets.string()));
+  }
+  if (p.worker_threads < 1 || p.worker_threads > kMaxWorkerThreads || p.read_timeout_s < 1 ||
+      p.keep_alive_timeout_s < 1 || p.keep_alive_requests < 1) {
+    return invalidArgument(fmt::format(
+        "viewer: worker_threads {} (want 1 to {}), read_timeout_s {}, keep_alive_timeout_s {}, keep_alive_requests {} "
+        "(want 1 or more)",
+        p.worker_threads, kMaxWorkerThreads, p.read_timeout_s, p.keep_alive_timeout_s, p.keep_alive_requests));
+  }
+  return Status::ok();
 }
 
 bool readFile(const fs::path& path, std::string& out) {
@@ -90,9 +155,10 @@ struct Server::Impl {
   const Scene& scene;
   ServerParams params;
   QueryFn query;
-  httplib::Server http;
+  HttpServer http;
   std::thread thread;
   int port = 0;
+  std::optional<ListenAddress> address;
 
   void serveFile(const fs::path& root, std::string_view relative, httplib::Response& res) const {
     const auto file = resolveUnder(root, relative);
@@ -105,18 +171,42 @@ struct Server::Impl {
     res.set_content(std::move(body), contentType(*file).c_str());
   }
 
-  void routes() {
-    http.set_payload_max_length(kMaxBodyBytes);
-    http.set_read_timeout(5, 0);
+  // Connections, sockets and what every request goes through before its route.
+  void configure() {
+    // Only SO_REUSEADDR (restart at once on a port whose old connections linger), not httplib's
+    // default SO_REUSEPORT, with which a second viewer on the port would take half the requests.
+    http.set_socket_options([](socket_t sock) {
+      const int yes = 1;
+      setsockopt(sock, SOL_SOCKET, SO_REUSEADDR, &yes, sizeof yes);
+    });
+    const auto workers = static_cast<std::size_t>(params.worker_threads);
+    http.new_task_queue = [workers] { return new httplib::ThreadPool(workers); };
+    http.set_read_timeout(params.read_timeout_s, 0);
     http.set_write_timeout(10, 0);
+    http.set_keep_alive_timeout(params.keep_alive_timeout_s);
+    http.set_keep_alive_max_count(static_cast<std::size_t>(params.keep_alive_requests));
+    http.set_payload_max_length(kMaxBodyBytes);
     http.set_default_headers({{"X-Content-Type-Options", "nosniff"}, {"Referrer-Policy", "no-referrer"}});
     http.set_pre_routing_handler([](const httplib::Request& req, httplib::Response& res) {
       if (req.target.size() > kMaxUriBytes) {
         sendError(res, 414, "request URI too long");
         return httplib::Server::HandlerResponse::Handled;
       }
+      if (!isUtf8Request(req)) {
+        sendPlain(res, 400, "bad request: the path or query is not UTF-8\n");
+        return httplib::Server::HandlerResponse::Handled;
+      }
       return httplib::Server::HandlerResponse::Unhandled;
     });
+    // Without it httplib answers 500 with the exception's text in a header.
+    http.set_exception_handler(
+        [](const httplib::Request& req, httplib::Response& res, const std::exception_ptr& thrown) {
+          log::error("viewer: {}: {}", toValidUtf8(req.target.substr(0, 200)), toValidUtf8(whatOf(thrown)));
+          sendError(res, 500, "internal error; see the viewer's log");
+        });
+  }
+
+  void fileRoutes() {
     http.Get("/",
              [this](const httplib::Request&, httplib::Response& res) { serveFile(params.assets, "index.html", res); });
     http.Get(R"(/(app\.js|style\.css|index\.html))", [this](const httplib::Request& req, httplib::Response& res) {
@@ -133,9 +223,12 @@ struct Server::Impl {
       }
       serveFile(params.run_dir, req.matches[1].str(), res);
     });
+  }
+
+  void apiRoutes() {
     http.Get("/api/info", [this](const httplib::Request&, httplib::Response& res) {
       res.set_header("Cache-Control", "no-store");
-      res.set_content(scene.infoJson().dump(), "application/json");
+      res.set_content(dumpJson(scene.infoJson()), "application/json");
     });
     http.Get("/api/blocks", [this](const httplib::Request& req, httplib::Response& res) {
       std::uint32_t since = 0;
@@ -152,57 +245,46 @@ struct Server::Impl {
       res.set_header("Cache-Control", "no-store");
       res.set_content(scene.encodeSince(since), "application/octet-stream");
     });
-    http.Get("/api/query", [this](const httplib::Request& req, httplib::Response& res) {
-      res.set_header("Cache-Control", "no-store");
-      const std::string q = req.has_param("q") ? req.get_param_value("q") : "";
-      if (q.size() > params.max_query_bytes) {
-        sendError(res, 413, fmt::format("query too long: {} bytes, at most {}", q.size(), params.max_query_bytes));
-        return;
-      }
-      try {
-        auto answer = query(q);
-        if (!answer) {
-          sendError(res, 400, answer.status().message());
-          return;
-        }
-        res.set_content(answer->dump(), "application/json");
-      } catch (const std::exception& e) {
-        log::error("viewer: query '{}': {}", q.substr(0, 100), e.what());
-        sendError(res, 500, "the query failed; see the server's log");
-      }
-    });
+    http.Get("/api/query", [this](const httplib::Request& req, httplib::Response& res) { answerQuery(req, res); });
+  }
+
+  void answerQuery(const httplib::Request& req, httplib::Response& res) const {
+    res.set_header("Cache-Control", "no-store");
+    const std::string q = req.has_param("q") ? req.get_param_value("q") : "";
+    if (q.size() > params.max_query_bytes) {
+      sendError(res, 413, fmt::format("query too long: {} bytes, at most {}", q.size(), params.max_query_bytes));
+      return;
+    }
+    // An exception goes to the exception handler: a 500 whose text only the log sees.
+    auto answer = query(q);
+    if (!answer) {
+      sendError(res, 400, answer.status().message());
+      return;
+    }
+    res.set_content(dumpJson(*answer), "application/json");
   }
 };
 
 Server::Server(const Scene& scene, ServerParams params, QueryFn query)
-    : impl_(new Impl{scene, std::move(params), std::move(query), {}, {}, 0}) {}
+    : impl_(new Impl{scene, std::move(params), std::move(query), {}, {}, 0, std::nullopt}) {}
 
 Server::~Server() {
   stop();
 }
 
 Result<int> Server::start() {
-  const fs::path& assets = impl_->params.assets;
-  std::error_code ec;
-  if (!fs::exists(assets / "index.html", ec)) {
-    return notFound(
-        fmt::format("{}: no index.html: the viewer's assets are not there (set ARTEMIS_VIEWER_DIR)", assets.string()));
-  }
-  if (!fs::exists(assets / "node_modules" / "three" / "build" / "three.module.js", ec)) {
-    return notFound(fmt::format("{}: three.js is not installed; run scripts/install-deps.sh (npm ci --prefix {})",
-                                (assets / "node_modules" / "three").string(), assets.string()));
-  }
-  impl_->routes();
   const ServerParams& p = impl_->params;
+  if (Status checked = checkParams(p); !checked.isOk()) return checked;
+  impl_->configure();
+  impl_->fileRoutes();
+  impl_->apiRoutes();
   if (p.port == 0) {
     impl_->port = impl_->http.bind_to_any_port(p.host);
   } else {
     impl_->port = impl_->http.bind_to_port(p.host, p.port) ? p.port : -1;
   }
-  if (impl_->port <= 0) {
-    return ioError(
-        fmt::format("viewer: cannot listen on {}:{} (in use? try --port 0 for any free port)", p.host, p.port));
-  }
+  if (impl_->port <= 0) return ioError(bindFailure(p.host, p.port, p.flag_prefix));
+  impl_->address = boundAddress(impl_->http.listeningSocket());
   impl_->thread = std::thread([this] { impl_->http.listen_after_bind(); });
   // stop() only reaches a server that is listening: wait until it is (at most a second).
   for (int i = 0; i < 1000 && !impl_->http.is_running(); ++i) std::this_thread::sleep_for(std::chrono::milliseconds(1));
@@ -216,8 +298,16 @@ void Server::stop() {
 }
 
 std::string Server::url() const {
-  const std::string host = impl_->params.host == "0.0.0.0" ? "127.0.0.1" : impl_->params.host;
-  return fmt::format("http://{}:{}/", host, impl_->port);
+  if (impl_->address) return fmt::format("http://{}/", impl_->address->hostPort());
+  return fmt::format("http://{}:{}/", impl_->params.host, impl_->port);
+}
+
+bool Server::loopbackOnly() const {
+  return impl_->address && impl_->address->loopback;
+}
+
+const ServerParams& Server::params() const {
+  return impl_->params;
 }
 
 }  // namespace artemis::viewer

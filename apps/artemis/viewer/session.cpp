@@ -6,9 +6,11 @@
 #include <atomic>
 #include <chrono>
 #include <csignal>
+#include <cstdio>
 #include <mutex>
 #include <thread>
 
+#include "artemis/core/log.hpp"
 #include "artemis/render/highlight.hpp"
 #include "artemis/semantics/query_grounder.hpp"
 
@@ -87,6 +89,17 @@ Result<QueryFn> makeQueryFn(semantics::Vocabulary vocabulary, std::vector<semant
     return nlohmann::json{
         {"query", grounding->query}, {"matched", matched}, {"unmatched", grounding->unmatched}, {"message", message}};
   });
+}
+
+void announce(const Server& server, std::string_view note) {
+  fmt::print("viewer: {} ({})\n", server.url(), note);
+  std::fflush(stdout);
+  if (server.loopbackOnly()) return;
+  const std::string& prefix = server.params().flag_prefix;
+  log::warn(
+      "viewer: NOT PRIVATE: listening on {}, which other machines can reach: anyone on the network can open the map "
+      "and the run folder's files, with no password. Pass --{}host 127.0.0.1 to keep it to this machine.",
+      server.url(), prefix);
 }
 
 void waitForInterrupt(double seconds) {

@@ -1,8 +1,9 @@
 #pragma once
 // What `artemis view` and `artemis run --viewer` share: the query answer (the same QueryGrounder
-// as `artemis ground`), the classes the page lists, and waiting for Ctrl-C.
+// as `artemis ground`), the classes the page lists, the address line, and waiting for Ctrl-C.
 
 #include <memory>
+#include <string_view>
 #include <vector>
 
 #include "artemis/semantics/active_brush.hpp"
@@ -25,6 +26,11 @@ nlohmann::json classesJson(const semantics::Vocabulary& vocabulary, const std::v
 
 // classesJson of every class of the vocabulary (the page's class colours).
 nlohmann::json vocabularyJson(const semantics::Vocabulary& vocabulary);
+
+// Prints "viewer: <url> (<note>)" on stdout, the address the server is bound to, and, when other
+// machines can connect (any host but a loopback address), a warning on the log that the map and
+// the run folder are served to them without authentication.
+void announce(const Server& server, std::string_view note);
 
 // Blocks until SIGINT or SIGTERM, or `seconds` (< 0: no limit).
 void waitForInterrupt(double seconds = -1.0);
