@@ -17,6 +17,7 @@
 #include "box_exclusion.hpp"
 #include "commands.hpp"
 #include "dataset_flags.hpp"
+#include "flag_checks.hpp"
 #include "progress.hpp"
 
 namespace artemis::cli {
@@ -97,7 +98,7 @@ int runInfo(const InfoFlags& flags) {
 // --exclude-boxes: the grown boxes of the listed tracks in each frame of the range, and what they took.
 struct Exclusion {
   std::set<int> tracks;
-  std::vector<std::vector<ExclusionBox>> boxes_L;         // one list per frame of the range
+  std::vector<std::vector<ExclusionBox>> boxes_L;            // one list per frame of the range
   std::map<int, std::vector<std::size_t>> dropped_by_frame;  // track -> points dropped in each frame
 };
 
@@ -126,10 +127,11 @@ Result<Exclusion> prepareExclusion(const ExportFlags& flags, const datasets::Dat
 }
 
 void reportExclusion(const Exclusion& ex, const datasets::Dataset& d, const ExportFlags& flags) {
-  fmt::print("left out: points inside the boxes of tracks {} of {} (label frame + {}, and {} frame(s) either side; "
-             "grown {} m at either end, {} m at the sides and on top; only where the camera's labels cover them)\n",
-             flags.exclude_tracks, flags.exclude_boxes, flags.exclusion.frame_offset,
-             flags.exclusion.neighbour_frames, flags.exclusion.length_padding_m, flags.exclusion.side_padding_m);
+  fmt::print(
+      "left out: points inside the boxes of tracks {} of {} (label frame + {}, and {} frame(s) either side; "
+      "grown {} m at either end, {} m at the sides and on top; only where the camera's labels cover them)\n",
+      flags.exclude_tracks, flags.exclude_boxes, flags.exclusion.frame_offset, flags.exclusion.neighbour_frames,
+      flags.exclusion.length_padding_m, flags.exclusion.side_padding_m);
   for (const auto& [id, per_frame] : ex.dropped_by_frame) {
     std::vector<std::size_t> hit;
     std::optional<std::size_t> first, last;
@@ -157,10 +159,6 @@ int runExportCloud(const ExportFlags& flags) {
     log::error("{}", dataset.status().message());
     return 1;
   }
-  if (!(flags.voxel_m > 0.0)) {
-    log::error("--voxel must be > 0 (got {})", flags.voxel_m);
-    return 1;
-  }
   std::optional<Exclusion> exclusion;
   if (!flags.exclude_boxes.empty()) {
     auto prepared = prepareExclusion(flags, **dataset);
@@ -184,6 +182,14 @@ int runExportCloud(const ExportFlags& flags) {
   progress.finish();
   if (result.frames_used == 0) {
     log::error("no frame could be read; nothing written");
+    return 1;
+  }
+  if (result.out_of_grid > 0) {
+    // A reference cloud with a hole where the grid ends would score any mesh wrongly.
+    log::error(
+        "{} of {} points lie more than {:.0f} m from the first pose, beyond the reach of a {} m voxel grid "
+        "(2^20 voxels a side); nothing written: use a larger --voxel",
+        result.out_of_grid, result.points_in, flags.voxel_m * double(1 << 20), flags.voxel_m);
     return 1;
   }
   const auto& cloud = result.cloud_W;
@@ -241,7 +247,9 @@ void addDatasetCommands(CLI::App& app, int& exit_code) {
       "Aggregate the range-gated scans in the world frame, voxel-downsample, write a PLY (the reference "
       "cloud for `artemis eval mesh`)");
   export_flags->dataset.addTo(*exp, /*with_poses=*/true);
-  exp->add_option("--voxel", export_flags->voxel_m, "Voxel size of the downsampling (m)")->capture_default_str();
+  exp->add_option("--voxel", export_flags->voxel_m, "Voxel size of the downsampling (m)")
+      ->capture_default_str()
+      ->check(within(0.001, 10.0));
   exp->add_option("-o,--output", export_flags->output, "Output PLY file")->required();
   auto* boxes = exp->add_option(
       "--exclude-boxes", export_flags->exclude_boxes,
@@ -267,7 +275,7 @@ void addDatasetCommands(CLI::App& app, int& exit_code) {
                               "grows by {} m at the sides and on top, never below (the road under a car stays)",
                               BoxExclusionParams{}.side_padding_m))
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(within(0.0, 10.0));
   exp->callback([export_flags, &exit_code] { exit_code = runExportCloud(*export_flags); });
 }
 

@@ -183,16 +183,18 @@ int runMeshEval(const MeshEvalFlags& flags) {
                  flags.reference);
       return 1;
     }
-    auto counted = eval::classBoundaryFaces(*mesh, reference.geometry, *classes, flags.class_pair[0], flags.class_pair[1]);
+    auto counted =
+        eval::classBoundaryFaces(*mesh, reference.geometry, *classes, flags.class_pair[0], flags.class_pair[1]);
     if (!counted) {
       log::error("{}: {}", flags.reference, counted.status().message());
       return 1;
     }
     boundary = *counted;
-    fmt::print("faces joining class {} to class {}: {} of the {} faces with a class-{} corner ({:.2f} %); {} vertices "
-               "without reference surface within 0.2 m\n",
-               boundary->a, boundary->b, boundary->joining, boundary->faces_with_a, boundary->a, 100.0 * boundary->share,
-               boundary->unlabelled_vertices);
+    fmt::print(
+        "faces joining class {} to class {}: {} of the {} faces with a class-{} corner ({:.2f} %); {} vertices "
+        "without reference surface within 0.2 m\n",
+        boundary->a, boundary->b, boundary->joining, boundary->faces_with_a, boundary->a, 100.0 * boundary->share,
+        boundary->unlabelled_vertices);
   }
   if (!flags.json.empty()) {
     if (Status s = writeJson(flags, *scores, seconds, boundary); !s.isOk()) {
@@ -311,7 +313,10 @@ void addEvalCommands(CLI::App& app, int& exit_code) {
       "trajectory.txt) against a reference of the same frames");
   traj->add_option("TRAJECTORY", tflags->estimate, "Estimated poses")->required();
   traj->add_option("--ref", tflags->reference, "Reference poses, one line per line of TRAJECTORY")->required();
-  traj->add_option("--window", tflags->windows, "Window lengths in frames")->capture_default_str()->expected(1, -1);
+  traj->add_option("--window", tflags->windows, "Window lengths in frames")
+      ->capture_default_str()
+      ->expected(1, -1)
+      ->check(CLI::Range(std::size_t{1}, std::size_t{1} << 30));
   traj->add_option("--json", tflags->json, "Also write the figures to this JSON file");
   traj->callback([tflags, &exit_code] { exit_code = runTrajectoryEval(*tflags); });
 

@@ -212,8 +212,8 @@ void addRenderCommand(CLI::App& app, int& exit_code) {
                   "config.json), or a mesh PLY (with --camera)")
       ->required();
   cmd->add_option("--query,-q", flags->query, "Highlight the classes this names, e.g. \"cars and people\"");
-  cmd->add_option("--pose", flags->pose,
-                  "Frame number of the recording: its camera (model and pose) takes the picture");
+  cmd->add_option("--pose", flags->pose, "Frame number of the recording: its camera (model and pose) takes the picture")
+      ->check(CLI::NonNegativeNumber);
   cmd->add_option("--camera", flags->camera, "Free camera: eye and target in world coordinates, ex,ey,ez,tx,ty,tz");
   cmd->add_option("--width", flags->width, "Free camera: picture width in pixels")->capture_default_str();
   cmd->add_option("--height", flags->height, "Free camera: picture height in pixels")->capture_default_str();

@@ -10,6 +10,7 @@
 
 #include "artemis/core/log.hpp"
 #include "artemis/core/timer.hpp"
+#include "artemis/pipeline/output_folder.hpp"
 #include "artemis/pipeline/run.hpp"
 #include "artemis/sim/writer.hpp"
 #include "commands.hpp"
@@ -28,17 +29,18 @@ namespace fs = std::filesystem;
 // With no recording given: simulate the demo street into <out>/sim and map that.
 Result<std::string> demoDataset(const fs::path& out) {
   const fs::path where = out / "sim";
-  std::error_code ec;
-  fs::remove_all(where, ec);
   auto params = sim::presetParams("demo");
   if (!params) return params.status();
+  auto folder = pipeline::OutputFolder::open(where, pipeline::simOutputNames());
+  if (!folder) return folder.status();
   log::info("no recording given: simulating the demo street into {}", where.string());
   ProgressLine progress("simulating", "frames");
-  auto report = sim::writeSequence(*params, where, [&](int done, int total) {
+  auto report = sim::writeSequence(*params, folder->staging(), [&](int done, int total) {
     progress.update(static_cast<std::size_t>(done), static_cast<std::size_t>(total));
   });
   progress.finish();
   if (!report) return report.status();
+  if (Status s = folder->commit(); !s.isOk()) return s;
   return where.string();
 }
 

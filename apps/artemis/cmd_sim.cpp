@@ -3,14 +3,14 @@
 
 #include <algorithm>
 #include <filesystem>
-#include <fstream>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
-#include <sstream>
 
 #include "artemis/core/log.hpp"
 #include "artemis/core/timer.hpp"
+#include "artemis/io/read_file.hpp"
+#include "artemis/pipeline/output_folder.hpp"
 #include "artemis/sim/writer.hpp"
 #include "commands.hpp"
 #include "progress.hpp"
@@ -45,14 +45,9 @@ double median(std::vector<double> v) {
 Result<sim::SimParams> effectiveParams(const SimFlags& flags) {
   sim::SimParams params;
   if (!flags.params_file.empty()) {
-    std::error_code ec;
-    if (!fs::is_regular_file(flags.params_file, ec))
-      return notFound(fmt::format("{}: no such file", flags.params_file));
-    std::ifstream in(flags.params_file);
-    if (!in) return notFound(fmt::format("{}: cannot be read", flags.params_file));
-    std::stringstream text;
-    text << in.rdbuf();
-    auto parsed = sim::paramsFromJson(text.str());
+    auto text = io::readTextFile(flags.params_file, io::limits::kJson);
+    if (!text) return text.status();
+    auto parsed = sim::paramsFromJson(*text);
     if (!parsed) return parseError(fmt::format("{}: {}", flags.params_file, parsed.status().message()));
     params = *parsed;
   } else {
@@ -76,20 +71,17 @@ Result<sim::SimParams> effectiveParams(const SimFlags& flags) {
   return params;
 }
 
-// A folder that already holds a sequence is only replaced with --force: stale frames of a longer
-// earlier run would otherwise stay beside the new ones.
-Status prepareOutput(const fs::path& out, bool force) {
+// A folder that already holds a sequence is only replaced with --force. The new sequence is
+// written into a staging folder and replaces the old one whole at the end (a longer earlier
+// sequence's frames never stay beside the new ones; a killed simulation leaves the old one).
+Result<pipeline::OutputFolder> prepareOutput(const fs::path& out, bool force) {
+  if (Status s = pipeline::settleOutputFolder(out); !s.isOk()) return s;
   std::error_code ec;
   const bool has_sequence = fs::exists(out / "sequences", ec) || fs::exists(out / "gt", ec);
-  if (!has_sequence) return Status::ok();
-  if (!force) {
+  if (has_sequence && !force) {
     return invalidArgument(fmt::format("{}: already holds a sequence; pass --force to replace it", out.string()));
   }
-  for (const char* sub : {"sequences", "poses", "gt", "preview", "scene.json"}) {
-    fs::remove_all(out / sub, ec);
-    if (ec) return ioError(fmt::format("{}: cannot be removed: {}", (out / sub).string(), ec.message()));
-  }
-  return Status::ok();
+  return pipeline::OutputFolder::open(out, pipeline::simOutputNames());
 }
 
 int runSim(const SimFlags& flags) {
@@ -98,19 +90,24 @@ int runSim(const SimFlags& flags) {
     log::error("{}", params.status().message());
     return 1;
   }
-  if (Status s = prepareOutput(flags.out, flags.force); !s.isOk()) {
-    log::error("{}", s.message());
+  auto folder = prepareOutput(flags.out, flags.force);
+  if (!folder) {
+    log::error("{}", folder.status().message());
     return 1;
   }
   log::info("settings: {}", nlohmann::json::parse(sim::paramsToJson(*params)).dump());
   Stopwatch clock;
   ProgressLine progress("simulating", "frames");
-  auto report = sim::writeSequence(*params, flags.out, [&](int done, int total) {
+  auto report = sim::writeSequence(*params, folder->staging(), [&](int done, int total) {
     progress.update(static_cast<std::size_t>(done), static_cast<std::size_t>(total));
   });
   progress.finish();
   if (!report) {
     log::error("{}", report.status().message());
+    return 1;
+  }
+  if (Status s = folder->commit(); !s.isOk()) {
+    log::error("{}", s.message());
     return 1;
   }
   const double total_s = clock.elapsedS();
@@ -149,7 +146,8 @@ int runSim(const SimFlags& flags) {
              r.street_length_m, r.triangles, r.path_length_m, params->frames, median(points));
   if (!r.movers.empty()) {
     std::string movers;
-    for (const auto& [kind, count] : r.movers) movers += fmt::format("{}{} {}", movers.empty() ? "" : ", ", count, kind);
+    for (const auto& [kind, count] : r.movers)
+      movers += fmt::format("{}{} {}", movers.empty() ? "" : ", ", count, kind);
     fmt::print("moving: {} (not in gt/mesh.ply; labelled moving-* in the .label files)\n", movers);
   }
   fmt::print(

@@ -4,6 +4,7 @@
 
 #include "artemis/core/log.hpp"
 #include "artemis/datasets/pose_file.hpp"
+#include "flag_checks.hpp"
 
 namespace artemis::cli {
 
@@ -24,8 +25,12 @@ void DatasetFlags::addTo(CLI::App& app, bool with_poses, bool poses_none) {
   app.add_option("--frames", frames,
                  "Frame range a:b (half-open: frames a..b-1), a: (to the end), :b, or a single frame "
                  "[default: all]");
-  app.add_option("--min-range", min_range_m, "Range gate: drop points closer than this (m)")->capture_default_str();
-  app.add_option("--max-range", max_range_m, "Range gate: drop points farther than this (m)")->capture_default_str();
+  app.add_option("--min-range", min_range_m, "Range gate: drop points closer than this (m)")
+      ->capture_default_str()
+      ->check(within(0.0, 1000.0));
+  app.add_option("--max-range", max_range_m, "Range gate: drop points farther than this (m)")
+      ->capture_default_str()
+      ->check(within(0.1, 1000.0));
   app.add_flag("--vertical-correction", vertical_correction,
                "Raise each KITTI HDL-64 point's elevation by 0.205 deg (the usual KITTI scan correction)");
   app.add_option("--sequence", sequence, "KITTI odometry: sequence NN to read when PATH is the root")

@@ -16,6 +16,7 @@
 #include "artemis/datasets/pose_file.hpp"
 #include "artemis/eval/ray_consistency.hpp"
 #include "artemis/io/file.hpp"
+#include "flag_checks.hpp"
 #include "progress.hpp"
 #include "run_folder.hpp"
 
@@ -222,10 +223,10 @@ void addEvalRaysCommand(CLI::App& eval, int& exit_code) {
       ->capture_default_str();
   cmd->add_option("--tolerance", flags->params.tolerance_m, "Least distance from the hit face's plane (m)")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(within(1e-4, 10.0));
   cmd->add_option("--tolerance-share", flags->params.tolerance_share, "... or this share of the range, if larger")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(within(0.0, 1.0));
   cmd->add_option("--ground-drop", flags->params.ground_drop_m,
                   "Diagnostics: returns this far below the sensor are ground returns (m)")
       ->capture_default_str();

@@ -19,6 +19,7 @@
 #include "artemis/io/file.hpp"
 #include "artemis/io/png.hpp"
 #include "artemis/render/rasterizer.hpp"
+#include "flag_checks.hpp"
 #include "progress.hpp"
 #include "run_folder.hpp"
 
@@ -215,7 +216,7 @@ void addEvalTextureCommand(CLI::App& eval, int& exit_code) {
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--splat-radius", flags->splat_radius_m, "Radius of the point splats (m)")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(within(1e-4, 10.0));
   cmd->add_option("--pictures", flags->pictures, "Also write the rendered and real pictures into this folder");
   cmd->add_option("--json", flags->json, "Also write the scores (and per view) to this JSON file");
   cmd->callback([flags, &exit_code] { exit_code = runTextureEval(*flags); });

@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <sstream>
 
+#include "flag_checks.hpp"
 #include "run_flags.hpp"
 
 namespace artemis::cli {
@@ -11,27 +12,37 @@ namespace {
 
 void addMapperFlags(CLI::App& cmd, RunFlags& f) {
   auto& m = f.params.mapper;
-  cmd.add_option("--voxel-size", m.voxels.voxel_size_m, "Voxel size (m)")->capture_default_str();
+  // Each setting's range: what the method can work with, not what a good map needs.
+  cmd.add_option("--voxel-size", m.voxels.voxel_size_m, "Voxel size (m)")
+      ->capture_default_str()
+      ->check(within(0.05, 5.0));
   cmd.add_option("--subdivisions", m.voxels.subdivisions,
                  "Sub-cells per voxel axis; one point kept per sub-cell (1..8)")
       ->capture_default_str()
       ->check(CLI::Range(1, 8));
-  cmd.add_option("--max-edge", m.mesher.max_edge_m, "Longest face edge on planar voxels (m)")->capture_default_str();
+  cmd.add_option("--max-edge", m.mesher.max_edge_m, "Longest face edge on planar voxels (m)")
+      ->capture_default_str()
+      ->check(within(0.01, 10.0));
   cmd.add_option("--remesh-growth", m.remesh_growth,
                  "Re-mesh a voxel once its points grew by this share since it was last meshed")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(within(0.01, 100.0));
   cmd.add_option("--first-mesh-points", m.first_mesh_points, "Points a voxel needs before it is first meshed")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(CLI::Range(3, 1000000));
   cmd.add_option("--rim", m.mesher.rim_m, "Neighbour points this close to a voxel join its triangulation (m)")
-      ->capture_default_str();
-  cmd.add_option("--threads", m.threads, "Worker threads (0: all cores)")->capture_default_str();
+      ->capture_default_str()
+      ->check(within(0.0, 2.0));
+  cmd.add_option("--threads", m.threads, "Worker threads (0: all cores)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 1024));
   cmd.add_flag_callback(
       "--no-free-space", [&fs = m.free_space] { fs.enabled = false; },
       "Keep every point the LiDAR returned, even where later rays saw through it (moving traffic leaves trails)");
   cmd.add_option("--free-space-range", m.free_space.max_range_m,
                  "Free space: test map points up to this far from the sensor against each scan's rays (m)")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(within(1.0, 500.0));
   cmd.add_option("--free-space-stride", m.free_space.old_voxel_stride,
                  "Free space: test the map's older points in one voxel of every N each frame, in turn (fewer tests a "
                  "frame; a trail takes a few frames longer to go)")
@@ -57,29 +68,29 @@ void addConstraintFlags(CLI::App& cmd, mapping::SemanticConstraintParams& c) {
       "Keep the vertices where the LiDAR put them and the faces the mesher made: no stage 1d (eq. 2-8)");
   cmd.add_option("--lambda-smooth", c.lambda_smooth, "Semantic constraint: weight of E_smoothness (eq. 2)")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(within(0.0, 1000.0));
   cmd.add_option("--lambda-sem", c.lambda_sem, "Semantic constraint: weight of E_semantic (eq. 2)")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(within(0.0, 1000.0));
   cmd.add_option("--semantic-temperature", c.temperature, "Semantic constraint: tau of eq. 5")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(within(0.0, 1000.0));
   cmd.add_option("--constraint-sweeps", c.max_sweeps, "Semantic constraint: most Gauss-Seidel sweeps a frame")
       ->capture_default_str()
       ->check(CLI::Range(1, 100));
   cmd.add_option("--max-vertex-offset", c.max_offset_m,
                  "Semantic constraint: farthest a vertex may move from its LiDAR return (m)")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(within(0.0, 2.0));
   cmd.add_option("--cut-similarity", c.cut_similarity,
                  "Semantic constraint: cut faces whose edge has semantic similarity (eq. 5) below this and spans a "
                  "depth gap (0: never cut)")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 1.0));
+      ->check(within(0.0, 1.0));
   cmd.add_option("--cut-depth-gap", c.cut_depth_gap_m,
                  "Semantic constraint: the depth gap along the viewing ray an edge must span to be cut (m)")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(within(0.0, 10.0));
 }
 
 void addRegistrationFlags(CLI::App& cmd, RunFlags& f) {
@@ -94,11 +105,12 @@ void addRegistrationFlags(CLI::App& cmd, RunFlags& f) {
   auto& r = f.params.registration;
   cmd.add_option("--registration-voxel", r.source_voxel_m,
                  "Registration keeps one scan point per cell of this size (m)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(within(0.05, 10.0));
   cmd.add_option("--registration-fine-distance", r.icp.min_distance_m,
                  "Correspondence distance of registration's finest stage (m)")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(within(0.01, 10.0));
 }
 
 void addTextureFlags(CLI::App& cmd, RunFlags& f) {
@@ -110,7 +122,7 @@ void addTextureFlags(CLI::App& cmd, RunFlags& f) {
   cmd.add_option("--texture-holdout", f.params.texture_holdout,
                  "Leave every N-th frame's image out of texturing (for artemis eval texture); 0: none")
       ->capture_default_str()
-      ->check(CLI::NonNegativeNumber);
+      ->check(CLI::Range(0, 1000000));
   cmd.add_option("--texture-delay", f.params.texture_delay,
                  "Refine each frame's image this many frames after its scan was mapped, once later scans have "
                  "meshed the ground and walls in front of the camera (0: at once)")
@@ -127,10 +139,10 @@ void addTextureFlags(CLI::App& cmd, RunFlags& f) {
       "Texture: plain averaging of every view (no reliability W, eq. 9-11)");
   cmd.add_option("--sigma-photo", rp.sigma_photo, "Texture: sigma_photo of eq. 9 (linear RGB)")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(within(1e-4, 100.0));
   cmd.add_option("--sigma-geom", rp.sigma_geom, "Texture: sigma_geom of eq. 9 (relative depth)")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(within(1e-4, 100.0));
   cmd.add_option("--lidar-window", rp.lidar_window_px,
                  "Refinement: the reference depth is the nearer of the mesh's z-buffer and the frame's LiDAR depth "
                  "within this many pixels; -1: the z-buffer alone")
@@ -170,7 +182,8 @@ void addLiveViewerFlags(CLI::App& cmd, RunFlags& f) {
       "Serve the live browser viewer while mapping (http://127.0.0.1:8080/ unless --viewer-port/--viewer-host)");
   addViewerFlags(cmd, f.viewer_flags, "viewer-");
   cmd.add_option("--viewer-linger", f.viewer_linger_s,
-                 "Viewer: seconds to keep serving the finished map (default: until Ctrl-C)");
+                 "Viewer: seconds to keep serving the finished map (default: until Ctrl-C)")
+      ->check(within(0.0, 1e7));
 }
 
 // The vocabulary, stage 1's fusion (eq. 1) and stage 2's semantic refinement (eq. 12-13).
@@ -184,7 +197,7 @@ void addSemanticFlags(CLI::App& cmd, RunFlags& f) {
   auto& sf = m.semantics;
   cmd.add_option("--sigma-depth", sf.sigma_depth_m, "sigma_d of eq. 1: depth-uncertainty scale (m)")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(within(1e-3, 100.0));
   cmd.add_flag(
       "--no-geometric-prior", [&fusion = sf](std::int64_t) { fusion.geometry.enabled = false; },
       "Dense segmenters: take the pixels' class probabilities as they are, without what the map's geometry "
@@ -192,21 +205,21 @@ void addSemanticFlags(CLI::App& cmd, RunFlags& f) {
   cmd.add_option("--voxel-prior", sf.voxel_prior,
                  "Weight of a vertex's voxel (0.4 m) distribution against its own cell's evidence")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(within(1e-3, 1e6));
   cmd.add_option("--background-score", sf.background_score,
                  "Confidence of a pixel outside every mask (\"none of the prompted classes\")")
       ->capture_default_str()
-      ->check(CLI::Range(0.0, 1.0));
+      ->check(within(0.0, 1.0));
   cmd.add_flag(
       "--no-semantic-refinement", [&refinement = rp](std::int64_t) { refinement.semantic_refinement = false; },
       "Keep stage 1's classes: no per-vertex log-probability update from the views (eq. 12-13)");
   cmd.add_option("--mask-floor", rp.mask_floor, "Semantic refinement: the least P_mask (eq. 13)")
       ->capture_default_str()
-      ->check(CLI::Range(1e-6, 0.5));
+      ->check(within(1e-6, 0.5));
   cmd.add_option("--stage-one-weight", rp.stage_one_weight,
                  "Semantic refinement: how many views stage 1's distribution counts as in the read-out")
       ->capture_default_str()
-      ->check(CLI::PositiveNumber);
+      ->check(within(1e-3, 1e6));
   cmd.add_option("--mask-border", rp.mask_border_px,
                  "Semantic refinement: a vertex whose pixel is this close to another mask observes nothing (px)")
       ->capture_default_str()

@@ -2,24 +2,22 @@
 
 #include <fmt/format.h>
 
-#include <fstream>
-
-#include <sstream>
 #include "artemis/datasets/pose_file.hpp"
+#include "artemis/io/read_file.hpp"
+#include "artemis/pipeline/output_folder.hpp"
 
 namespace artemis::cli {
 
 namespace fs = std::filesystem;
 
 Result<nlohmann::json> readJsonFile(const fs::path& path, const std::string& missing_hint) {
-  std::error_code ec;
-  if (!fs::is_regular_file(path, ec)) return notFound(fmt::format("{}: not found{}", path.string(), missing_hint));
-  std::ifstream in(path);
-  if (!in) return ioError(fmt::format("{}: cannot be read", path.string()));
-  std::stringstream text;
-  text << in.rdbuf();
+  auto text = io::readTextFile(path, io::limits::kJson);
+  if (!text) {
+    if (text.status().code() == StatusCode::kNotFound) return notFound(text.status().message() + missing_hint);
+    return text.status();
+  }
   try {
-    return nlohmann::json::parse(text.str());
+    return nlohmann::json::parse(*text);
   } catch (const nlohmann::json::exception& e) {
     return parseError(fmt::format("{}: not valid JSON: {}", path.string(), e.what()));
   }
@@ -67,6 +65,7 @@ Status requireFile(const fs::path& path, const std::string& what) {
 Result<RunDataset> openRunDataset(const fs::path& run, const std::string& dataset_override,
                                   datasets::DatasetOptions options) {
   const std::string hint = "artemis run writes it into its --out folder";
+  if (Status s = pipeline::settleOutputFolder(run); !s.isOk()) return s;
   if (Status s = requireFile(run / "config.json", hint); !s.isOk()) return s;
   if (Status s = requireFile(run / "trajectory.txt", hint); !s.isOk()) return s;
   auto recording = readRunRecording(run / "config.json");

@@ -4,6 +4,7 @@
 
 #include "artemis/eval/geometry.hpp"
 #include "artemis/io/ply.hpp"
+#include "artemis/pipeline/output_folder.hpp"
 #include "run_folder.hpp"
 
 namespace artemis::cli {
@@ -13,6 +14,9 @@ namespace fs = std::filesystem;
 Result<RunMesh> readRunMesh(const fs::path& path) {
   std::error_code ec;
   const bool folder = fs::is_directory(path, ec);
+  if (folder) {
+    if (Status s = pipeline::settleOutputFolder(path); !s.isOk()) return s;
+  }
   const fs::path mesh_path = folder ? path / "mesh.ply" : path;
   auto arrays = eval::readMeshArrays(mesh_path);
   if (!arrays) return arrays.status();

@@ -12,6 +12,7 @@
 
 #include "artemis/core/log.hpp"
 #include "artemis/core/timer.hpp"
+#include "artemis/pipeline/output_folder.hpp"
 #include "artemis/pipeline/segmentation_stage.hpp"
 #include "register_step.hpp"
 #include "run_outputs.hpp"
@@ -28,10 +29,10 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
   if (params.texture_revisit < 0) {
     return invalidArgument(fmt::format("texture_revisit must be 0 or more frames, not {}", params.texture_revisit));
   }
-  std::error_code ec;
-  fs::create_directories(out, ec);
-  if (ec) return ioError(fmt::format("{}: cannot create folder: {}", out.string(), ec.message()));
-  if (Status s = writeText(out / "config.json", config_json); !s.isOk()) return s;
+  // Outputs appear together at the end; a failed or killed run leaves `out` as it was.
+  auto folder = OutputFolder::open(out, runOutputNames());
+  if (!folder) return folder.status();
+  if (Status s = writeText(folder->staging() / "config.json", config_json); !s.isOk()) return s;
 
   RunReport report;
   mapping::Mapper mapper(params.mapper);
@@ -333,7 +334,11 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
   }
   report.vertices = mapper.mesh().vertexCount();
   report.faces = mapper.mesh().faceCount();
-  if (Status s = writeRunOutputs(mapper, params, trajectory, odometry != nullptr, out, report); !s.isOk()) return s;
+  if (Status s = writeRunOutputs(mapper, params, trajectory, odometry != nullptr, folder->staging(), report);
+      !s.isOk()) {
+    return s;
+  }
+  if (Status s = folder->commit(); !s.isOk()) return s;
   return report;
 }
 
