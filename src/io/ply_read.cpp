@@ -328,8 +328,10 @@ Result<PlyData> readPly(const std::filesystem::path& path) {
   auto head = readFileHead(path, limits::kMesh, kHeaderBytes);
   if (!head) return head.status();
   if (auto header = parseHeader(*head, file); !header) {
-    if (head->size() < kHeaderBytes) return header.status();
-    return parseError(file + ": no end_header line in the first 1 MiB (" + header.status().message() + ")");
+    const bool cut_short = head->size() == kHeaderBytes &&
+                           header.status().message().find("no end_header") != std::string::npos;
+    if (!cut_short) return header.status();
+    return parseError(file + ": no end_header line in the first 1 MiB");
   }
   auto bytes = readFileBytes(path, limits::kMesh);
   if (!bytes) return bytes.status();
