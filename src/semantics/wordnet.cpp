@@ -9,7 +9,6 @@
 #include <cctype>
 #include <charconv>
 #include <cstdio>
-#include <fstream>
 #include <memory>
 #include <mutex>
 #include <sstream>
@@ -19,6 +18,7 @@
 #include <utility>
 
 #include "artemis/core/log.hpp"
+#include "artemis/io/read_file.hpp"
 
 // clang-format off: wn.h must come after the standard headers (it defines short macros).
 #include <wn.h>
@@ -73,8 +73,9 @@ bool synsetLineAt(SynsetId offset) {
 std::unordered_map<std::string, std::vector<std::string>> readNounExceptions(const char* dir) {
   std::unordered_map<std::string, std::vector<std::string>> exceptions;
   const std::string path = fmt::format("{}/noun.exc", dir != nullptr ? dir : ".");
-  std::ifstream in(path);
-  if (!in) log::debug("{}: cannot be read; irregular plurals will not be recognised", path);
+  auto text = io::readTextFile(path, io::FileLimit{64u << 20, "a WordNet exception list"});
+  if (!text) log::debug("{}; irregular plurals will not be recognised", text.status().message());
+  std::istringstream in(text ? *text : std::string());
   std::string line;
   while (std::getline(in, line)) {
     std::istringstream words(line);

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 #include <netinet/in.h>
 #include <sys/socket.h>
+#include <sys/stat.h>
 
 #include <algorithm>
 #include <cctype>
@@ -61,6 +62,22 @@ std::string lower(std::string text) {
 
 double secondsSince(std::chrono::steady_clock::time_point start) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// A FIFO or a link to a device among the run's files would hold a worker forever: not found.
+TEST(ViewerServer, ARunFileThatIsNotARegularFileIsNotServed) {
+  const Folders folders;
+  ASSERT_EQ(::mkfifo((folders.tmp / "run/mesh.ply").c_str(), 0600), 0);
+  fs::create_symlink("/dev/zero", folders.tmp / "run/trajectory.txt");
+  const Scene scene;
+  Server server(scene, folders.params(), echoQuery);
+  const auto port = server.start();
+  ASSERT_TRUE(port) << port.status().message();
+  const auto start = std::chrono::steady_clock::now();
+  EXPECT_EQ(rawGet(*port, "/run/mesh.ply").status, 404);
+  EXPECT_EQ(rawGet(*port, "/run/trajectory.txt").status, 404);
+  EXPECT_EQ(rawGet(*port, "/run/timing.json").status, 200);
+  EXPECT_LT(secondsSince(start), 2.0);
 }
 
 TEST(ViewerServer, ASecondServerOnTheSamePortIsRefused) {

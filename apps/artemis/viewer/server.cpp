@@ -10,6 +10,7 @@
 #include <thread>
 
 #include "artemis/core/log.hpp"
+#include "artemis/io/read_file.hpp"
 #include "listen_address.hpp"
 #include "utf8.hpp"
 
@@ -101,16 +102,15 @@ Status checkParams(const ServerParams& p) {
   return Status::ok();
 }
 
+// A regular file only: a FIFO or device in the run folder would hold a worker forever.
 bool readFile(const fs::path& path, std::string& out) {
-  std::FILE* f = std::fopen(path.c_str(), "rb");
-  if (f == nullptr) return false;
-  out.clear();
-  char buf[1 << 16];
-  std::size_t n = 0;
-  while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) out.append(buf, n);
-  const bool ok = std::ferror(f) == 0;
-  std::fclose(f);
-  return ok;
+  auto text = io::readTextFile(path, io::limits::kMesh);
+  if (!text) {
+    log::debug("viewer: {}", text.status().message());
+    return false;
+  }
+  out = std::move(*text);
+  return true;
 }
 
 }  // namespace
