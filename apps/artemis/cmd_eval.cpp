@@ -15,6 +15,7 @@
 #include "artemis/eval/trajectory.hpp"
 #include "artemis/io/file.hpp"
 #include "commands.hpp"
+#include "flag_checks.hpp"
 #include "progress.hpp"
 
 namespace artemis::cli {
@@ -287,17 +288,27 @@ void addEvalCommands(CLI::App& app, int& exit_code) {
       ->required();
   mesh->add_option("--seen", flags->seen,
                    "PLY cloud of what the sensor saw: reference points farther than --seen-radius from it are dropped");
-  mesh->add_option("--seen-radius", flags->seen_radius_m, "Radius of the --seen crop (m)")->capture_default_str();
+  mesh->add_option("--seen-radius", flags->seen_radius_m, "Radius of the --seen crop (m)")
+      ->capture_default_str()
+      ->check(within(1e-3, 100.0));
   mesh->add_option("--seen-plane-tolerance", flags->seen_plane_tolerance_m,
                    "For a mesh reference: the seen point must also lie this close to the sample's plane (m)")
-      ->capture_default_str();
-  mesh->add_option("--tau", flags->params.taus_m, "Distance thresholds (m)")->capture_default_str()->expected(1, -1);
-  mesh->add_option("--samples-per-m2", flags->params.samples_per_m2, "Surface sampling density")->capture_default_str();
+      ->capture_default_str()
+      ->check(within(1e-4, 10.0));
+  mesh->add_option("--tau", flags->params.taus_m, "Distance thresholds (m)")
+      ->capture_default_str()
+      ->expected(1, -1)
+      ->check(within(1e-4, 100.0));
+  mesh->add_option("--samples-per-m2", flags->params.samples_per_m2, "Surface sampling density")
+      ->capture_default_str()
+      ->check(within(1.0, 1e6));
   mesh->add_option("--min-samples", flags->params.min_samples, "Least number of surface samples")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(within(1, 1 << 30));
   mesh->add_option("--crop-padding", flags->params.crop_padding_m,
                    "Padding of the reference's bounding box that crops mesh samples (m)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(within(0.0, 100.0));
   mesh->add_option("--seed", flags->params.seed, "Seed of the surface sampling")->capture_default_str();
   mesh->add_option("--json", flags->json, "Also write the scores to this JSON file");
   mesh->add_option("--class-pair", flags->class_pair,
@@ -316,7 +327,7 @@ void addEvalCommands(CLI::App& app, int& exit_code) {
   traj->add_option("--window", tflags->windows, "Window lengths in frames")
       ->capture_default_str()
       ->expected(1, -1)
-      ->check(CLI::Range(std::size_t{1}, std::size_t{1} << 30));
+      ->check(within(1, 1 << 30));
   traj->add_option("--json", tflags->json, "Also write the figures to this JSON file");
   traj->callback([tflags, &exit_code] { exit_code = runTrajectoryEval(*tflags); });
 

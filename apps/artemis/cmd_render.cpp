@@ -20,6 +20,7 @@
 #include "artemis/render/rasterizer.hpp"
 #include "artemis/semantics/query_grounder.hpp"
 #include "commands.hpp"
+#include "flag_checks.hpp"
 #include "run_folder.hpp"
 #include "run_mesh.hpp"
 
@@ -215,9 +216,15 @@ void addRenderCommand(CLI::App& app, int& exit_code) {
   cmd->add_option("--pose", flags->pose, "Frame number of the recording: its camera (model and pose) takes the picture")
       ->check(CLI::NonNegativeNumber);
   cmd->add_option("--camera", flags->camera, "Free camera: eye and target in world coordinates, ex,ey,ez,tx,ty,tz");
-  cmd->add_option("--width", flags->width, "Free camera: picture width in pixels")->capture_default_str();
-  cmd->add_option("--height", flags->height, "Free camera: picture height in pixels")->capture_default_str();
-  cmd->add_option("--fov", flags->fov_deg, "Free camera: horizontal field of view in degrees")->capture_default_str();
+  cmd->add_option("--width", flags->width, "Free camera: picture width in pixels")
+      ->capture_default_str()
+      ->check(within(1, 16384));
+  cmd->add_option("--height", flags->height, "Free camera: picture height in pixels")
+      ->capture_default_str()
+      ->check(within(1, 16384));
+  cmd->add_option("--fov", flags->fov_deg, "Free camera: horizontal field of view in degrees")
+      ->capture_default_str()
+      ->check(within(1.0, 179.0));
   cmd->add_option("--dataset", flags->dataset, "The recording, where it is no longer where config.json says");
   cmd->add_option("-o,--output", flags->output, "PNG to write")->required();
   cmd->add_option("--highlight-mask", flags->mask,

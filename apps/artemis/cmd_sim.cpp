@@ -13,6 +13,7 @@
 #include "artemis/pipeline/output_folder.hpp"
 #include "artemis/sim/writer.hpp"
 #include "commands.hpp"
+#include "flag_checks.hpp"
 #include "progress.hpp"
 
 namespace artemis::cli {
@@ -173,15 +174,18 @@ void addSimCommand(CLI::App& app, int& exit_code) {
   cmd->add_option("--params", flags->params_file,
                   "Start from the settings in this JSON file (a scene.json written earlier reproduces its run)")
       ->excludes("--preset");
-  cmd->add_option("--frames", flags->frames, "Number of frames (10 Hz)");
+  cmd->add_option("--frames", flags->frames, "Number of frames (10 Hz)")->check(within(1, 1000000));
   cmd->add_option("--seed", flags->seed, "Seed of the procedural street")->check(CLI::NonNegativeNumber);
-  cmd->add_option("--street-length", flags->street_length_m, "Street length (m); grows to fit the drive");
-  cmd->add_option("--range-noise", flags->range_noise_m, "LiDAR range noise sigma (m)");
-  cmd->add_option("--dropout", flags->dropout, "Probability that a LiDAR return is lost");
+  cmd->add_option("--street-length", flags->street_length_m, "Street length (m); grows to fit the drive")
+      ->check(within(10.0, 100000.0));
+  cmd->add_option("--range-noise", flags->range_noise_m, "LiDAR range noise sigma (m)")->check(within(0.0, 1.0));
+  cmd->add_option("--dropout", flags->dropout, "Probability that a LiDAR return is lost")->check(within(0.0, 0.99));
   cmd->add_option("--azimuth-step", flags->azimuth_step_deg,
-                  "LiDAR azimuth step (deg); 0.18 gives KITTI's ~120k points a scan, 0.09 twice as many");
+                  "LiDAR azimuth step (deg); 0.18 gives KITTI's ~120k points a scan, 0.09 twice as many")
+      ->check(within(0.01, 10.0));
   cmd->add_option("--exposure-variation", flags->exposure_variation,
-                  "Camera exposure varies per frame by up to this fraction");
+                  "Camera exposure varies per frame by up to this fraction")
+      ->check(within(0.0, 0.9));
   cmd->add_option("--traffic", flags->traffic,
                   "Moving road users: none (default), street (cars both ways, cyclists, people walking and "
                   "crossing) or drive0013 (one car ahead and one behind in the ego lane, as on KITTI's drive 0013)")

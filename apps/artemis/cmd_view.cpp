@@ -8,6 +8,7 @@
 #include "artemis/core/timer.hpp"
 #include "artemis/datasets/pose_file.hpp"
 #include "commands.hpp"
+#include "flag_checks.hpp"
 #include "run_folder.hpp"
 #include "run_mesh.hpp"
 #include "viewer/flags.hpp"
@@ -91,7 +92,8 @@ void addViewCommand(CLI::App& app, int& exit_code) {
                   "Run folder of artemis run (mesh.ply, semantics.json, trajectory.txt), or a mesh PLY")
       ->required();
   addViewerFlags(*cmd, flags->viewer, "");
-  cmd->add_option("--exit-after", flags->exit_after_s, "Stop serving after this many seconds (default: at Ctrl-C)");
+  cmd->add_option("--exit-after", flags->exit_after_s, "Stop serving after this many seconds (default: at Ctrl-C)")
+      ->check(within(0.0, 1e7));
   cmd->callback([flags, &exit_code] { exit_code = runView(*flags); });
 }
 

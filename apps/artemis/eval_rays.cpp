@@ -218,9 +218,11 @@ void addEvalRaysCommand(CLI::App& eval, int& exit_code) {
       ->capture_default_str()
       ->check(CLI::PositiveNumber);
   cmd->add_option("--min-range", flags->min_range_m, "Range gate: drop returns closer than this (m)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(within(0.0, 1000.0));
   cmd->add_option("--max-range", flags->max_range_m, "Range gate: drop returns farther than this (m)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(within(0.1, 1000.0));
   cmd->add_option("--tolerance", flags->params.tolerance_m, "Least distance from the hit face's plane (m)")
       ->capture_default_str()
       ->check(within(1e-4, 10.0));
@@ -229,7 +231,8 @@ void addEvalRaysCommand(CLI::App& eval, int& exit_code) {
       ->check(within(0.0, 1.0));
   cmd->add_option("--ground-drop", flags->params.ground_drop_m,
                   "Diagnostics: returns this far below the sensor are ground returns (m)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(within(0.0, 100.0));
   cmd->add_option("--json", flags->json, "Where to write the figures (default: RUN/rays.json)");
   cmd->callback([flags, &exit_code] { exit_code = runRayEval(*flags); });
 }

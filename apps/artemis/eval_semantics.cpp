@@ -25,6 +25,7 @@
 #include "artemis/io/ply.hpp"
 #include "artemis/semantics/vocabulary.hpp"
 #include "eval_semantics.hpp"
+#include "flag_checks.hpp"
 #include "progress.hpp"
 #include "run_classes.hpp"
 #include "run_folder.hpp"
@@ -322,11 +323,14 @@ void addEvalSemanticsCommand(CLI::App& eval, int& exit_code) {
   cmd->add_option("--sequence", flags->sequence,
                   "Sequence NN to read when --labels is the root [default: the run's, else 00]");
   cmd->add_option("--max-distance", flags->max_distance_m, "A point farther than this from every vertex is missed (m)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(within(1e-3, 100.0));
   cmd->add_option("--min-range", flags->min_range_m, "Range gate: score no point closer than this (m)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(within(0.0, 1000.0));
   cmd->add_option("--max-range", flags->max_range_m, "Range gate: score no point farther than this (m)")
-      ->capture_default_str();
+      ->capture_default_str()
+      ->check(within(0.1, 1000.0));
   cmd->add_option("--json", flags->json, "Also write the scores and confusion matrices to this JSON file");
   cmd->add_flag("--masks-alone", flags->masks_alone,
                 "Also score the per-frame masks without fusion: the run's segmenter (from semantics.json) is run "

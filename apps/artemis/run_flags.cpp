@@ -29,13 +29,13 @@ void addMapperFlags(CLI::App& cmd, RunFlags& f) {
       ->check(within(0.01, 100.0));
   cmd.add_option("--first-mesh-points", m.first_mesh_points, "Points a voxel needs before it is first meshed")
       ->capture_default_str()
-      ->check(CLI::Range(3, 1000000));
+      ->check(within(3, 1000000));
   cmd.add_option("--rim", m.mesher.rim_m, "Neighbour points this close to a voxel join its triangulation (m)")
       ->capture_default_str()
       ->check(within(0.0, 2.0));
   cmd.add_option("--threads", m.threads, "Worker threads (0: all cores)")
       ->capture_default_str()
-      ->check(CLI::Range(0, 1024));
+      ->check(within(0, 1024));
   cmd.add_flag_callback(
       "--no-free-space", [&fs = m.free_space] { fs.enabled = false; },
       "Keep every point the LiDAR returned, even where later rays saw through it (moving traffic leaves trails)");
@@ -122,7 +122,7 @@ void addTextureFlags(CLI::App& cmd, RunFlags& f) {
   cmd.add_option("--texture-holdout", f.params.texture_holdout,
                  "Leave every N-th frame's image out of texturing (for artemis eval texture); 0: none")
       ->capture_default_str()
-      ->check(CLI::Range(0, 1000000));
+      ->check(within(0, 1000000));
   cmd.add_option("--texture-delay", f.params.texture_delay,
                  "Refine each frame's image this many frames after its scan was mapped, once later scans have "
                  "meshed the ground and walls in front of the camera (0: at once)")

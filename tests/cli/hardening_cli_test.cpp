@@ -74,6 +74,33 @@ TEST(Hardening, EveryMapperSettingIsCheckedAtAndBeyondBothEnds) {
   EXPECT_NE(inf.err.find("outside the valid range, 0.05 to 5"), std::string::npos) << inf.err;
 }
 
+// The other commands' numeric settings: a value beyond either end is refused by name before any
+// file is opened (the files here do not exist).
+TEST(Hardening, OtherCommandsSettingsAreCheckedBeyondBothEnds) {
+  const std::vector<std::pair<std::string, std::string>> cases = {
+      {"sim --out /nonexistent/sim", "--dropout 1"},
+      {"sim --out /nonexistent/sim", "--dropout -0.1"},
+      {"sim --out /nonexistent/sim", "--azimuth-step 0"},
+      {"sim --out /nonexistent/sim", "--range-noise nan"},
+      {"sim --out /nonexistent/sim", "--frames 0"},
+      {"eval mesh /nonexistent.ply --gt /nonexistent.ply", "--tau 0"},
+      {"eval mesh /nonexistent.ply --gt /nonexistent.ply", "--tau inf"},
+      {"eval mesh /nonexistent.ply --gt /nonexistent.ply", "--samples-per-m2 0.5"},
+      {"render /nonexistent.ply -o /nonexistent.png", "--fov 180"},
+      {"render /nonexistent.ply -o /nonexistent.png", "--width 0"},
+      {"render /nonexistent.ply -o /nonexistent.png", "--height 16385"},
+      {"eval rays /nonexistent", "--max-range 0"},
+      {"eval rays /nonexistent", "--tolerance-share 2"},
+  };
+  for (const auto& [command, setting] : cases) {
+    SCOPED_TRACE(command + " " + setting);
+    const RunResult r = test::runCli(command + " " + setting);
+    EXPECT_NE(r.exit_code, 0);
+    EXPECT_NE(r.err.find(setting.substr(0, setting.find(' '))), std::string::npos) << r.err;
+    EXPECT_NE(r.err.find("outside the valid range"), std::string::npos) << r.err;
+  }
+}
+
 TEST(Hardening, ExportCloudVoxelOutsideItsRangeIsRefused) {
   for (const char* voxel : {"1e-5", "0", "nan", "11"}) {
     const RunResult r = test::runCli(std::string("dataset export-cloud /nonexistent --voxel ") + voxel + " -o x.ply");
