@@ -11,11 +11,18 @@ namespace artemis::datasets {
 
 namespace {
 
+// A billion frames: three years of a 10 Hz recording; far enough that index + 1 never wraps.
+constexpr std::size_t kMaxFrameIndex = 1'000'000'000;
+
 Result<std::size_t> parseIndex(const std::string& text, const std::string& whole) {
   std::size_t v = 0;
   const auto [ptr, ec] = std::from_chars(text.data(), text.data() + text.size(), v);
   if (text.empty() || ec != std::errc() || ptr != text.data() + text.size()) {
     return invalidArgument(fmt::format("frame range '{}': '{}' is not a frame number", whole, text));
+  }
+  if (v > kMaxFrameIndex) {
+    return invalidArgument(
+        fmt::format("frame range '{}': {} is beyond the last frame number ({})", whole, text, kMaxFrameIndex));
   }
   return v;
 }

@@ -15,6 +15,9 @@ namespace fs = std::filesystem;
 
 namespace {
 
+// Ten million frames: 11 days of a 10 Hz recording.
+constexpr long long kMaxLabelFrame = 10'000'000;
+
 std::vector<std::string> tokens(const std::string& line) {
   std::istringstream in(line);
   std::vector<std::string> out;
@@ -103,6 +106,12 @@ Result<KittiBox> parseKittiBoxRow(const std::string& line, bool tracking, std::s
     auto frame = integer(t[0], "frame", where);
     if (!frame) return frame.status();
     if (*frame < 0) return parseError(fmt::format("{}: frame {} is negative", where, *frame));
+    // A tracking file covers frames 0 .. its last; a frame number beyond any recording would make
+    // that list billions long.
+    if (*frame > kMaxLabelFrame) {
+      return parseError(fmt::format("{}: frame {} is beyond the last frame a label file may name ({})", where, *frame,
+                                    kMaxLabelFrame));
+    }
     auto track = integer(t[1], "track_id", where);
     if (!track) return track.status();
     if (*track < -1 || *track > std::numeric_limits<int>::max()) {

@@ -144,7 +144,8 @@ class PngDecoder {
     if (pixels > kMaxPixels) {
       return parseError(file_ + ": image too large (" + sizeText(header) + ", more than 2^26 pixels)");
     }
-    const std::uint64_t bits = std::uint64_t{header.width} * header.bit_depth * samplesPerPixel(header.color_type);
+    const std::uint64_t bits = std::uint64_t{header.width} * static_cast<std::uint64_t>(header.bit_depth) *
+                               static_cast<std::uint64_t>(samplesPerPixel(header.color_type));
     const std::uint64_t raw_bytes = header.height * (1 + (bits + 7) / 8);
     if (raw_bytes > kMaxInflation * context_.size) {
       return parseError(file_ + ": claims " + sizeText(header) + " pixels, more than a file of " +
@@ -211,7 +212,9 @@ ImageU8 toImage(const std::vector<unsigned char>& samples, const PngHeader& head
     return image;
   }
   const std::size_t pixels = std::size_t{header.width} * header.height;
-  for (std::size_t i = 0; i < pixels; ++i) convertPixel(&samples[i * from], from, &out[i * to], to);
+  const auto from_step = static_cast<std::size_t>(from);
+  const auto to_step = static_cast<std::size_t>(to);
+  for (std::size_t i = 0; i < pixels; ++i) convertPixel(&samples[i * from_step], from, &out[i * to_step], to);
   return image;
 }
 
@@ -222,7 +225,7 @@ Result<ImageU8> decode8(const std::vector<unsigned char>& bytes, const std::stri
   int channels = 0;
   std::size_t row_bytes = 0;
   if (!prepare8(decoder.png(), decoder.info(), &channels, &row_bytes)) return decoder.failed();
-  if (channels < 1 || channels > 4 || row_bytes != std::size_t{header->width} * channels) {
+  if (channels < 1 || channels > 4 || row_bytes != std::size_t{header->width} * static_cast<std::size_t>(channels)) {
     return parseError(file + ": bad PNG: unexpected row layout");
   }
   std::vector<unsigned char> samples;

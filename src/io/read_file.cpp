@@ -129,7 +129,8 @@ Result<std::vector<unsigned char>> readFileHead(const std::filesystem::path& pat
   InputFile input;
   if (Status s = input.open(file, limit); !s.isOk()) return s;
   std::vector<unsigned char> bytes;
-  if (Status s = input.read(file, count, limit.max_bytes, bytes); !s.isOk()) return s;
+  const auto want = static_cast<std::size_t>(std::min<std::uint64_t>(count, input.size() + 1));
+  if (Status s = input.read(file, want, limit.max_bytes, bytes); !s.isOk()) return s;
   return bytes;
 }
 

@@ -17,10 +17,29 @@ using Json = nlohmann::json;
 // A model config is a few kB; anything much larger is not one (and /dev/zero never ends).
 constexpr std::size_t kMaxConfigBytes = 1 << 20;
 
+// A whole number within [min, max]: get<int>() of 1e10 is undefined behaviour, and of 8.9 is 8.
+Status wholeNumber(const Json& v, int min, int max, const std::string& what, int& out) {
+  if (!v.is_number_integer() || v.get<std::int64_t>() < min || v.get<std::int64_t>() > max) {
+    return parseError(fmt::format("{} must be a whole number in {}..{}, not {}", what, min, max, v.dump()));
+  }
+  out = static_cast<int>(v.get<std::int64_t>());
+  return Status::ok();
+}
+
 Status parseInput(const Json& j, const std::string& origin, DenseModelInput& in) {
   if (!j.is_object()) return parseError(origin + ": \"input\" is not an object");
-  in.size_multiple = j.value("size_multiple", in.size_multiple);
-  in.resize_width = j.value("resize_width", in.resize_width);
+  if (j.contains("size_multiple")) {
+    if (Status s = wholeNumber(j["size_multiple"], 1, 256, origin + ": input.size_multiple", in.size_multiple);
+        !s.isOk()) {
+      return s;
+    }
+  }
+  if (j.contains("resize_width")) {
+    if (Status s = wholeNumber(j["resize_width"], 0, 16384, origin + ": input.resize_width", in.resize_width);
+        !s.isOk()) {
+      return s;
+    }
+  }
   in.scale = j.value("scale", in.scale);
   if (j.contains("mean")) {
     const Json& m = j["mean"];
@@ -35,7 +54,9 @@ Status parseInput(const Json& j, const std::string& origin, DenseModelInput& in)
   if (j.contains("probe_size")) {
     const Json& p = j["probe_size"];
     if (!p.is_array() || p.size() != 2) return parseError(origin + ": input.probe_size must be [width, height]");
-    in.probe_size = {p[0].get<int>(), p[1].get<int>()};
+    for (std::size_t k = 0; k < 2; ++k) {
+      if (Status s = wholeNumber(p[k], 1, 4096, origin + ": input.probe_size", in.probe_size[k]); !s.isOk()) return s;
+    }
   }
   if (in.size_multiple < 1 || in.size_multiple > 256 || in.resize_width < 0 || in.resize_width > 16384 ||
       !(std::isfinite(in.scale) && in.scale != 0.0) || in.probe_size[0] < 1 || in.probe_size[1] < 1 ||

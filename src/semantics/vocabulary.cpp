@@ -58,7 +58,9 @@ Result<Vocabulary> Vocabulary::parse(std::string_view json, const std::string& o
     if (c.contains("rgb")) {
       const auto& rgb = c["rgb"];
       if (!rgb.is_array() || rgb.size() != 3 || !std::all_of(rgb.begin(), rgb.end(), [](const auto& x) {
-            return x.is_number_integer() && x.template get<int>() >= 0 && x.template get<int>() <= 255;
+            // As 64 bits: get<int>() would wrap 4294967551 to 255.
+            return x.is_number_integer() && x.template get<std::int64_t>() >= 0 &&
+                   x.template get<std::int64_t>() <= 255;
           })) {
         return parseError(where + ": \"rgb\" must be three integers 0..255");
       }

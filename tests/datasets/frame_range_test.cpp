@@ -30,6 +30,13 @@ TEST(FrameRange, RejectsBadText) {
     EXPECT_FALSE(r.isOk()) << bad;
   }
   EXPECT_NE(FrameRange::parse("9:3").status().message().find("empty"), std::string::npos);
+  // Found by fuzzing: the largest index made index + 1 wrap to an empty range 2^64-1:0.
+  for (const char* huge : {"18446744073709551615", "1000000001", "5:18446744073709551615"}) {
+    auto r = FrameRange::parse(huge);
+    ASSERT_FALSE(r.isOk()) << huge;
+    EXPECT_NE(r.status().message().find("beyond the last frame number"), std::string::npos) << r.status().message();
+  }
+  EXPECT_TRUE(FrameRange::parse("1000000000").isOk());
 }
 
 }  // namespace

@@ -101,6 +101,8 @@ TEST(KittiBoxes, MalformedRowsNameFileLineAndColumn) {
       {"0 1 Car 0 0 0.1 1 2 3 4 1.5 wide 4.0 1 2 3 0.5\n", "w 'wide' is not a finite number"},
       {"0 1 Car 0 0 0.1 1 2 3 4 1.5 1.6 4.0 1 nan 3 0.5\n", "y 'nan' is not a finite number"},
       {"-2 1 Car 0 0 0.1 1 2 3 4 1.5 1.6 4.0 1 2 3 0.5\n", "frame -2 is negative"},
+      // Found by fuzzing: frames 0..2e9 were listed one by one.
+      {"2000000000 1 Car 0 0 0.1 1 2 3 4 1.5 1.6 4.0 1 2 3 0.5\n", "beyond the last frame a label file may name"},
       {"0 1.5 Car 0 0 0.1 1 2 3 4 1.5 1.6 4.0 1 2 3 0.5\n", "track_id '1.5' is not an integer"},
       {"0 1 Car 0 0.5 0.1 1 2 3 4 1.5 1.6 4.0 1 2 3 0.5\n", "occluded '0.5' is not an integer"},
       {"0 1 Car 0 7 0.1 1 2 3 4 1.5 1.6 4.0 1 2 3 0.5\n", "occluded 7"},

@@ -92,6 +92,14 @@ TEST(DenseModelConfig, BadConfigsNameTheFileAndTheProblem) {
   EXPECT_NE(error(R"({"labels": ["A"], "classes": {"A": "car"}, "input": {"size_multiple": 0}})").find("my.json"),
             std::string::npos);
   EXPECT_NE(error("[1, 2").find("my.json"), std::string::npos);
+  // Found by fuzzing: 1e10 was converted to int (undefined behaviour) before the range check, and
+  // 8.9 was taken as 8.
+  for (const char* input : {R"("size_multiple": 1e10)", R"("size_multiple": 8.9)", R"("resize_width": -1)",
+                            R"("probe_size": [1e10, 8])", R"("probe_size": [256, 0.5])"}) {
+    const std::string message =
+        error(std::string(R"({"labels": ["A"], "classes": {"A": "car"}, "input": {)") + input + "}}");
+    EXPECT_NE(message.find("must be a whole number in"), std::string::npos) << input << ": " << message;
+  }
   auto missing = DenseModelConfig::load("/nonexistent/enet.json", kitti());
   ASSERT_FALSE(missing.isOk());
   EXPECT_NE(missing.status().message().find("/nonexistent/enet.json"), std::string::npos);

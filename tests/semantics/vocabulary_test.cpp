@@ -52,6 +52,9 @@ TEST(Vocabulary, BadFilesAreClearErrors) {
   EXPECT_NE(error(R"({"classes": [{"id": 1, "name": "a"}, {"id": 1, "name": "b"}]})").find("twice"), std::string::npos);
   EXPECT_NE(error(R"({"classes": [{"id": 1, "name": "a"}, {"id": 2, "name": "A"}]})").find("twice"), std::string::npos);
   EXPECT_NE(error(R"({"classes": [{"id": 1, "name": "a", "rgb": [1, 2]}]})").find("rgb"), std::string::npos);
+  // Found by fuzzing: 4294967551 wrapped to 255 through get<int>().
+  EXPECT_NE(error(R"({"classes": [{"id": 1, "name": "a", "rgb": [4294967551, 0, 0]}]})").find("rgb"),
+            std::string::npos);
   EXPECT_NE(error(R"({"classes": [{"id": 1, "name": "a", "labels": [5]}, {"id": 2, "name": "b", "labels": [5]}]})")
                 .find("two classes"),
             std::string::npos);
