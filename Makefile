@@ -1,6 +1,6 @@
 # Convenience targets around CMake. Everything also works with plain
 #   cmake -S . -B <dir> -G Ninja && cmake --build <dir>
-.PHONY: build run bench test test-release test-asan install-check lint format clean
+.PHONY: build run bench test test-release test-asan install-check lint format clean fuzz fuzz-smoke
 
 JOBS ?= 2
 GENERATOR := $(shell command -v ninja >/dev/null 2>&1 && echo "-G Ninja")
@@ -28,8 +28,8 @@ bench: build
 	build/bench/segmenter_bench
 
 # Every test, twice: a Release build with warnings as errors (benchmarks compiled too), then an
-# ASan/UBSan build of the library and tests.
-test: test-release test-asan
+# ASan/UBSan build of the library and tests; then each parser's fuzz target a few seconds.
+test: test-release test-asan fuzz-smoke
 
 test-release:
 	cmake -S . -B build-ci $(GENERATOR) -DCMAKE_BUILD_TYPE=Release -DARTEMIS_WERROR=ON
@@ -37,10 +37,10 @@ test-release:
 	ctest --test-dir build-ci --output-on-failure -j $(JOBS)
 
 # The sanitizer pass leaves out the long scoring runs (hundreds of frames through the whole pipeline,
-# ten to twenty times slower under ASan, together over half an hour on 2 cores): the Release pass
-# runs and asserts them, and the same code runs under the sanitizers in the shorter pipeline, CLI and
-# module tests.
-SLOW_TESTS := ^(SimSemantics\.FusionBeatsPerFrameMasksAndLosesNothingOnExactMasks|SimReconstruction\.StreetMeshMatchesTheGroundTruthSurface|KittiReconstruction\..*)$$
+# ten to twenty times slower under ASan, together over half an hour on 2 cores) and the run-folder
+# tests that kill whole runs and simulations: the Release pass runs and asserts them, and the same
+# code runs under the sanitizers in the shorter pipeline, CLI and module tests.
+SLOW_TESTS := ^(SimSemantics\.FusionBeatsPerFrameMasksAndLosesNothingOnExactMasks|SimReconstruction\.StreetMeshMatchesTheGroundTruthSurface|KittiReconstruction\..*|RunFolder\..*)$$
 
 test-asan:
 	cmake -S . -B build-asan $(GENERATOR) -DCMAKE_BUILD_TYPE=RelWithDebInfo -DARTEMIS_WERROR=ON -DARTEMIS_SANITIZE=ON \
@@ -49,6 +49,28 @@ test-asan:
 	ASAN_OPTIONS=detect_leaks=1:abort_on_error=1 UBSAN_OPTIONS=print_stacktrace=1:halt_on_error=1 \
 	  ctest --test-dir build-asan --output-on-failure -j $(JOBS) -E '$(SLOW_TESTS)'
 
+# Fuzzing (fuzz/CMakeLists.txt): a clang tree in build-fuzz/ with every library instrumented for
+# libFuzzer under ASan/UBSan; seeds from ARTEMIS_DATA_DIR, a short simulation and data/; then each
+# target for FUZZ_SECONDS, one after another (FUZZ_TARGETS: a subset). The corpus grows in
+# build-fuzz/corpus/<target>; findings land in fuzz/findings/<target>/ and should become tests.
+FUZZ_SECONDS ?= 600
+FUZZ_TARGETS ?=
+define fuzz_build
+	cmake -S . -B build-fuzz $(GENERATOR) -DCMAKE_CXX_COMPILER=clang++ -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+	  -DARTEMIS_FUZZ=ON -DARTEMIS_BUILD_BENCHMARKS=OFF -DARTEMIS_BUILD_TESTS=OFF
+	cmake --build build-fuzz -j $(JOBS) --target fuzz_targets
+endef
+
+fuzz:
+	$(fuzz_build)
+	fuzz/make_corpus.sh build-fuzz/seeds
+	fuzz/run_fuzzers.sh build-fuzz $(FUZZ_SECONDS) $(FUZZ_TARGETS)
+
+# Each target a few seconds over its seeds (ctest in build-fuzz/): cheap enough for CI.
+fuzz-smoke:
+	$(fuzz_build)
+	ctest --test-dir build-fuzz --output-on-failure -j $(JOBS) -LE fuzz_findings
+
 lint: build
 	cmake --build build --target lint
 
@@ -56,4 +78,4 @@ format:
 	cmake -S . -B build $(GENERATOR) >/dev/null && cmake --build build --target format
 
 clean:
-	rm -rf build build-ci build-asan
+	rm -rf build build-ci build-asan build-fuzz

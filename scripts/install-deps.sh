@@ -8,6 +8,8 @@ packages=(
   # toolchain
   build-essential cmake ninja-build pkg-config ccache git
   clang-format clang-tidy
+  # fuzzing (make fuzz, make fuzz-smoke): clang with libFuzzer and the sanitizer runtimes
+  clang libclang-rt-dev
   # core dependencies (DESIGN.md)
   libeigen3-dev libtbb-dev libcgal-dev libembree-dev libnanoflann-dev
   libstb-dev libpng-dev libtinygltf-dev libcli11-dev libspdlog-dev libfmt-dev
