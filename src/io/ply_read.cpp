@@ -2,6 +2,8 @@
 // decoded column by column (all-scalar elements) or item by item (elements with lists), with every
 // count checked against the bytes that remain before anything is allocated for it.
 
+#include <fmt/format.h>
+
 #include <algorithm>
 #include <array>
 #include <bit>
@@ -47,6 +49,14 @@ class HeaderParser {
   // One header line (without its line ending); sets *done on end_header.
   Status parseLine(std::string_view line, std::size_t line_no, bool* done) {
     line_no_ = line_no;
+    // A header is text: a control character (a carriage return inside a line, a NUL) is a broken
+    // file, and a name or comment holding one could not be written back.
+    for (const char c : line) {
+      const auto byte = static_cast<unsigned char>(c);
+      if ((byte < 0x20 && c != '\t') || byte == 0x7F) {
+        return error(fmt::format("control character 0x{:02X} in the header", byte));
+      }
+    }
     const auto words = splitWords(line);
     if (words.empty()) return Status::ok();
     const std::string_view keyword = words[0];
@@ -328,8 +338,8 @@ Result<PlyData> readPly(const std::filesystem::path& path) {
   auto head = readFileHead(path, limits::kMesh, kHeaderBytes);
   if (!head) return head.status();
   if (auto header = parseHeader(*head, file); !header) {
-    const bool cut_short = head->size() == kHeaderBytes &&
-                           header.status().message().find("no end_header") != std::string::npos;
+    const bool cut_short =
+        head->size() == kHeaderBytes && header.status().message().find("no end_header") != std::string::npos;
     if (!cut_short) return header.status();
     return parseError(file + ": no end_header line in the first 1 MiB");
   }

@@ -55,6 +55,17 @@ TEST_F(PlyErrors, BadHeaderKeyword) {
   expectMentions(status, "mesh.ply line 3: unknown header keyword 'elemnt'");
 }
 
+// Found by fuzzing: a carriage return inside a name or comment was read, and then could not be
+// written back.
+TEST_F(PlyErrors, ControlCharactersInTheHeaderAreRefused) {
+  const std::string tail = "element vertex 0\nproperty float x\nend_header\n";
+  expectMentions(readBad("cr_comment.ply", "ply\nformat ascii 1.0\ncomment a\rb\n" + tail),
+                 "line 3: control character 0x0D in the header");
+  expectMentions(readBad("cr_name.ply", "ply\nformat ascii 1.0\nelement vertex 0\nproperty float x\ry\nend_header\n"),
+                 "line 4: control character 0x0D");
+  expectMentions(readBad("nul.ply", std::string("ply\nformat ascii 1.0\ncomment ") + '\0' + "\n" + tail), "0x00");
+}
+
 TEST_F(PlyErrors, UnknownPropertyType) {
   const Status status =
       readBad("mesh.ply", "ply\nformat ascii 1.0\nelement vertex 1\nproperty float x\nproperty flaot y\nend_header\n");
