@@ -32,8 +32,13 @@ constexpr unsigned char kSignature[8] = {0x89, 'P', 'N', 'G', '\r', '\n', 0x1A, 
 constexpr std::uint64_t kMaxPixels = std::uint64_t{1} << 26;
 // zlib's deflate cannot expand data by more than about 1032:1.
 constexpr std::uint64_t kMaxInflation = 1032;
-// Ancillary chunks (text, ICC profiles) are skipped, but libpng still allocates them while reading.
+// The largest ancillary chunk libpng may allocate while reading.
 constexpr png_alloc_size_t kMaxChunkBytes = 8u << 20;
+// Ancillary chunks skipped as if unknown: all but tRNS (transparency becomes alpha).
+constexpr png_byte kSkippedChunks[] =
+    "iCCP\0zTXt\0iTXt\0tEXt\0sPLT\0eXIf\0pCAL\0sCAL\0hIST\0tIME\0oFFs\0pHYs\0"
+    "sBIT\0cHRM\0gAMA\0sRGB\0bKGD";
+constexpr int kSkippedChunkCount = 17;
 
 // Set once the rows are being read: libpng asks for more compressed data after the last row to
 // inflate whatever follows it (1 KB at a time, to the stream's end), which is where a bomb keeps its
@@ -125,6 +130,9 @@ class PngDecoder {
     if (info_ != nullptr) {
       png_set_read_fn(png_, &context_, readFromMemory);
       png_set_chunk_malloc_max(png_, kMaxChunkBytes);
+      // Text, colour profiles and the like are never used here; libpng would still decompress
+      // them (an ICC profile's header can claim 2 GB), so they are skipped unread.
+      png_set_keep_unknown_chunks(png_, PNG_HANDLE_CHUNK_NEVER, kSkippedChunks, kSkippedChunkCount);
     }
   }
   ~PngDecoder() { png_destroy_read_struct(&png_, info_ != nullptr ? &info_ : nullptr, nullptr); }
