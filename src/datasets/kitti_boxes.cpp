@@ -6,6 +6,7 @@
 #include <charconv>
 #include <cmath>
 #include <limits>
+#include <numeric>
 #include <sstream>
 
 #include "artemis/datasets/kitti_files.hpp"
@@ -15,8 +16,8 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// Ten million frames: 11 days of a 10 Hz recording.
-constexpr long long kMaxLabelFrame = 10'000'000;
+// A million frames: 28 hours of a 10 Hz recording (KITTI's tracking sequences have about 1,000).
+constexpr long long kMaxLabelFrame = 1'000'000;
 
 std::vector<std::string> tokens(const std::string& line) {
   std::istringstream in(line);
@@ -175,7 +176,9 @@ Result<KittiBoxLabels> readKittiBoxes(const fs::path& path) {
     if (out.has_tracks) {
       std::size_t last = 0;
       for (const auto& b : out.boxes) last = std::max(last, b.frame);
-      for (std::size_t f = 0; f <= last; ++f) out.frames.push_back(f);
+      const std::size_t first = out.frames.size();
+      out.frames.resize(first + last + 1);
+      std::iota(out.frames.begin() + static_cast<std::ptrdiff_t>(first), out.frames.end(), std::size_t{0});
     } else {
       if (!frame) return frame.status();
       out.frames.push_back(*frame);

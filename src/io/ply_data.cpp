@@ -1,5 +1,7 @@
 #include <array>
+#include <cmath>
 #include <limits>
+#include <type_traits>
 
 #include "artemis/io/ply.hpp"
 #include "ply_detail.hpp"
@@ -131,6 +133,22 @@ Status PlyData::setList(const std::string& element, const std::string& property,
   return Status::ok();
 }
 
+// A floating-point value read as an integer saturates at the integer's range (NaN reads as 0):
+// a plain cast of 300.0 to uint8 or 1e10 to int is undefined behaviour (found by fuzzing).
+namespace {
+
+template <typename T, typename S>
+T convertValue(S value) {
+  if constexpr (std::is_floating_point_v<S> && std::is_integral_v<T>) {
+    if (std::isnan(value)) return T{0};
+    if (value <= static_cast<S>(std::numeric_limits<T>::lowest())) return std::numeric_limits<T>::lowest();
+    if (value >= static_cast<S>(std::numeric_limits<T>::max())) return std::numeric_limits<T>::max();
+  }
+  return static_cast<T>(value);
+}
+
+}  // namespace
+
 template <typename T>
 Result<std::vector<T>> PlyData::scalarAs(const std::string& element, const std::string& property) const {
   const PlyElement* source = find(element);
@@ -144,7 +162,7 @@ Result<std::vector<T>> PlyData::scalarAs(const std::string& element, const std::
       [](const auto& values) {
         std::vector<T> converted(values.size());
         // NOLINTNEXTLINE(bugprone-signed-char-misuse): int8 columns hold numbers; sign extension is intended.
-        for (std::size_t i = 0; i < values.size(); ++i) converted[i] = static_cast<T>(values[i]);
+        for (std::size_t i = 0; i < values.size(); ++i) converted[i] = convertValue<T>(values[i]);
         return converted;
       },
       column->values);

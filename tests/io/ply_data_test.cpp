@@ -2,6 +2,8 @@
 
 #include <gtest/gtest.h>
 
+#include <limits>
+
 #include "artemis/io/ply.hpp"
 
 namespace artemis::io {
@@ -70,6 +72,21 @@ TEST(PlyData, ScalarAsConvertsAndNamesMissingProperties) {
   auto list = data.scalarAs<float>("vertex", "tags");
   ASSERT_FALSE(list.isOk());
   EXPECT_NE(list.status().message().find("is a list"), std::string::npos);
+}
+
+// Found by fuzzing: a float column read as an integer was a plain cast, undefined for 300.0 as
+// uint8 or 1e10 as int. It saturates at the integer's range; NaN reads as 0.
+TEST(PlyData, FloatsReadAsIntegersSaturate) {
+  PlyData data;
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  ASSERT_TRUE(data.setScalar<float>("vertex", "red", {300.F, -5.F, nan, 7.9F, 1e10F}).isOk());
+  const auto bytes = data.scalarAs<std::uint8_t>("vertex", "red");
+  ASSERT_TRUE(bytes.isOk());
+  EXPECT_EQ(*bytes, (std::vector<std::uint8_t>{255, 0, 0, 7, 255}));
+  const auto ints = data.scalarAs<int>("vertex", "red");
+  ASSERT_TRUE(ints.isOk());
+  EXPECT_EQ((*ints)[4], std::numeric_limits<int>::max());
+  EXPECT_EQ((*ints)[1], -5);
 }
 
 TEST(PlyMesh, BuildsOpen3dCompatibleLayout) {
