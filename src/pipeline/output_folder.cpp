@@ -41,8 +41,11 @@ std::optional<long> ownerPid(const std::string& name) {
   return std::nullopt;
 }
 
+// This process counts as running: a settle while it writes never touches its own staging folder
+// or temporary files (open() clears a leftover of an earlier process with the same pid).
 bool running(long pid) {
-  if (pid <= 0 || pid == static_cast<long>(::getpid())) return false;
+  if (pid <= 0) return false;
+  if (pid == static_cast<long>(::getpid())) return true;
   return ::kill(static_cast<pid_t>(pid), 0) == 0 || errno == EPERM;
 }
 
