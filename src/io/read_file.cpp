@@ -114,6 +114,7 @@ Result<std::vector<unsigned char>> readFileBytes(const std::filesystem::path& pa
   std::vector<unsigned char> bytes;
   const std::uint64_t want = std::min(input.size(), limit.max_bytes) + 1;
   if (Status s = input.read(file, static_cast<std::size_t>(want), limit.max_bytes, bytes); !s.isOk()) return s;
+  if (bytes.size() > input.size()) return ioError(file + ": grew while it was read (is something writing it?)");
   return bytes;
 }
 
