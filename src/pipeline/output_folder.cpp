@@ -11,6 +11,7 @@
 #include <string_view>
 
 #include "artemis/core/log.hpp"
+#include "artemis/datasets/kitti_files.hpp"
 #include "artemis/io/file.hpp"
 #include "artemis/io/read_file.hpp"
 
@@ -49,27 +50,14 @@ bool running(long pid) {
   return ::kill(static_cast<pid_t>(pid), 0) == 0 || errno == EPERM;
 }
 
-Result<std::vector<std::string>> readManifest(const fs::path& staging) {
-  auto text = io::readTextFile(staging / kManifest, io::limits::kJson);
-  if (!text) return text.status();
-  std::vector<std::string> names;
-  std::size_t pos = 0;
-  while (pos < text->size()) {
-    std::size_t stop = text->find('\n', pos);
-    if (stop == std::string::npos) stop = text->size();
-    if (stop > pos) names.push_back(text->substr(pos, stop - pos));
-    pos = stop + 1;
-  }
-  return names;
-}
-
 // Manifest lines: "+NAME" produced (to move into place), "-NAME" not produced (to remove).
 // Idempotent: a move killed half-way is finished by running this again.
 Status finishMove(const fs::path& folder, const fs::path& staging) {
-  auto lines = readManifest(staging);
+  auto lines = datasets::readLines(staging / kManifest, io::limits::kJson);
   if (!lines) return lines.status();
   std::error_code ec;
   for (const auto& line : *lines) {
+    if (line.empty()) continue;
     if (line.size() < 2 || (line[0] != '+' && line[0] != '-') || line.find('/') != std::string::npos) {
       return parseError(fmt::format("{}: bad line '{}'", (staging / kManifest).string(), line));
     }
