@@ -2,11 +2,11 @@
 // written results against references. The evaluators read files, never the mapper's internals.
 #include <fmt/format.h>
 
-#include <fstream>
 #include <functional>
 #include <memory>
 #include <nlohmann/json.hpp>
 #include <optional>
+#include <span>
 
 #include "artemis/core/log.hpp"
 #include "artemis/core/timer.hpp"
@@ -102,12 +102,8 @@ Status writeJson(const MeshEvalFlags& flags, const std::vector<eval::GeometrySco
                            {"unlabelled_vertices", boundary->unlabelled_vertices}};
   }
   j["seconds"] = seconds;
-  std::ofstream out(flags.json);
-  if (!out) return ioError(fmt::format("{}: cannot be opened for writing", flags.json));
-  out << j.dump(2) << '\n';
-  out.close();
-  if (!out) return ioError(fmt::format("{}: write failed", flags.json));
-  return Status::ok();
+  const std::string text = j.dump(2) + '\n';
+  return io::writeFileAtomic(flags.json, std::as_bytes(std::span(text.data(), text.size())));
 }
 
 int runMeshEval(const MeshEvalFlags& flags) {

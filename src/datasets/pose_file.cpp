@@ -2,9 +2,10 @@
 
 #include <fmt/format.h>
 
-#include <fstream>
+#include <span>
 
 #include "artemis/datasets/kitti_files.hpp"
+#include "artemis/io/file.hpp"
 
 namespace artemis::datasets {
 namespace fs = std::filesystem;
@@ -30,17 +31,12 @@ Result<std::vector<Isometry3d>> readPoseFile(const fs::path& path) {
 }
 
 Status writePoseFile(const fs::path& path, const std::vector<Isometry3d>& poses) {
-  const fs::path tmp = path.string() + ".tmp";
-  {
-    std::ofstream out(tmp);
-    if (!out) return ioError(fmt::format("{}: cannot be written", path.string()));
-    for (const auto& T : poses) out << formatRowMajor3x4(T) << '\n';
-    if (!out) return ioError(fmt::format("{}: write error", path.string()));
+  std::string text;
+  for (const auto& T : poses) {
+    text += formatRowMajor3x4(T);
+    text += '\n';
   }
-  std::error_code ec;
-  fs::rename(tmp, path, ec);
-  if (ec) return ioError(fmt::format("{}: cannot be written: {}", path.string(), ec.message()));
-  return Status::ok();
+  return io::writeFileAtomic(path, std::as_bytes(std::span(text.data(), text.size())));
 }
 
 }  // namespace artemis::datasets

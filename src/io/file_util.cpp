@@ -2,16 +2,23 @@
 
 #include "artemis/io/file.hpp"
 
+#include <signal.h>
 #include <unistd.h>
 
 #include <atomic>
 #include <cerrno>
+#include <charconv>
 #include <cstring>
+#include <string_view>
 #include <system_error>
+
+#include "artemis/core/log.hpp"
 
 namespace artemis::io::detail {
 
 namespace {
+
+constexpr std::string_view kTempMarker = ".tmp-";
 
 std::string errnoText() {
   return std::strerror(errno);
@@ -23,7 +30,7 @@ std::filesystem::path tempPathFor(const std::filesystem::path& target) {
   static std::atomic<unsigned> counter{0};
   std::string name(".");
   name.append(target.filename().string());
-  name.append(".tmp-");
+  name.append(kTempMarker);
   name.append(std::to_string(::getpid()));
   name.push_back('-');
   name.append(std::to_string(counter.fetch_add(1)));
@@ -41,6 +48,7 @@ AtomicFile::~AtomicFile() {
 }
 
 Status AtomicFile::open(const std::filesystem::path& target) {
+  removeStaleTemporaries(target);
   target_ = target;
   temp_ = tempPathFor(target);
   file_ = std::fopen(temp_.string().c_str(), "wb");
@@ -81,6 +89,48 @@ Status AtomicFile::commit() {
 }  // namespace artemis::io::detail
 
 namespace artemis::io {
+
+bool processRunning(long pid) {
+  if (pid <= 0) return false;
+  if (pid == static_cast<long>(::getpid())) return true;
+  return ::kill(static_cast<pid_t>(pid), 0) == 0 || errno == EPERM;
+}
+
+std::optional<long> temporaryFileOwner(const std::string& name) {
+  const auto marker = name.rfind(detail::kTempMarker);
+  if (name.size() < 2 || name[0] != '.' || marker == std::string::npos) return std::nullopt;
+  const std::string_view digits = std::string_view(name).substr(marker + detail::kTempMarker.size());
+  long pid = 0;
+  const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), pid);
+  if (ec != std::errc{} || pid <= 0 || end == digits.data() + digits.size() || *end != '-') {
+    return std::nullopt;
+  }
+  return pid;
+}
+
+int removeStaleTemporaries(const std::filesystem::path& target) {
+  namespace fs = std::filesystem;
+  std::string prefix(".");
+  prefix.append(target.filename().string());
+  prefix.append(detail::kTempMarker);
+  const fs::path folder = target.parent_path().empty() ? fs::path(".") : target.parent_path();
+  std::error_code ec;
+  std::vector<fs::path> stale;
+  for (const auto& entry : fs::directory_iterator(folder, ec)) {
+    const std::string name = entry.path().filename().string();
+    if (name.rfind(prefix, 0) != 0) continue;
+    const auto owner = temporaryFileOwner(name);
+    if (owner && !processRunning(*owner)) stale.push_back(entry.path());
+  }
+  int removed = 0;
+  for (const auto& path : stale) {
+    if (fs::remove(path, ec)) {
+      ++removed;
+      log::debug("{}: removed {}, left by a write that was stopped", target.string(), path.filename().string());
+    }
+  }
+  return removed;
+}
 
 Status writeFileAtomic(const std::filesystem::path& path, std::span<const std::byte> bytes) {
   detail::AtomicFile file;

@@ -1,11 +1,9 @@
 #include "artemis/pipeline/output_folder.hpp"
 
 #include <fmt/format.h>
-#include <signal.h>
 #include <unistd.h>
 
 #include <algorithm>
-#include <cerrno>
 #include <charconv>
 #include <optional>
 #include <string_view>
@@ -22,32 +20,21 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr std::string_view kStagingPrefix = ".staging-";
-constexpr std::string_view kTempMarker = ".tmp-";  // io's atomic writes: .NAME.tmp-<pid>-<n>
 constexpr const char* kManifest = "MANIFEST";
 
-std::optional<long> leadingNumber(std::string_view text) {
-  long value = 0;
-  const auto [end, ec] = std::from_chars(text.data(), text.data() + text.size(), value);
-  if (ec != std::errc{} || end == text.data()) return std::nullopt;
-  return value;
-}
-
-// The process that owns a staging folder or temporary file, when its name says.
+// The process that owns a staging folder or a temporary file of io's atomic writes, when its name
+// says. This process counts as running (io::processRunning): a settle while it writes never touches
+// its own staging folder or temporary files (open() clears a leftover of an earlier process with
+// the same pid).
 std::optional<long> ownerPid(const std::string& name) {
-  if (name.rfind(kStagingPrefix, 0) == 0) return leadingNumber(std::string_view(name).substr(kStagingPrefix.size()));
-  const auto marker = name.rfind(kTempMarker);
-  if (name.size() > 1 && name[0] == '.' && marker != std::string::npos) {
-    return leadingNumber(std::string_view(name).substr(marker + kTempMarker.size()));
+  if (name.rfind(kStagingPrefix, 0) == 0) {
+    long pid = 0;
+    const std::string_view digits = std::string_view(name).substr(kStagingPrefix.size());
+    const auto [end, ec] = std::from_chars(digits.data(), digits.data() + digits.size(), pid);
+    if (ec != std::errc{} || end == digits.data()) return std::nullopt;
+    return pid;
   }
-  return std::nullopt;
-}
-
-// This process counts as running: a settle while it writes never touches its own staging folder
-// or temporary files (open() clears a leftover of an earlier process with the same pid).
-bool running(long pid) {
-  if (pid <= 0) return false;
-  if (pid == static_cast<long>(::getpid())) return true;
-  return ::kill(static_cast<pid_t>(pid), 0) == 0 || errno == EPERM;
+  return io::temporaryFileOwner(name);
 }
 
 // Manifest lines: "+NAME" produced (to move into place), "-NAME" not produced (to remove).
@@ -97,7 +84,7 @@ Status settleOutputFolder(const fs::path& folder) {
   for (const auto& entry : fs::directory_iterator(folder, ec)) {
     const std::string name = entry.path().filename().string();
     const auto pid = ownerPid(name);
-    if (pid && !running(*pid)) leftovers.push_back(entry.path());
+    if (pid && !io::processRunning(*pid)) leftovers.push_back(entry.path());
   }
   if (ec) return ioError(fmt::format("{}: cannot be listed: {}", folder.string(), ec.message()));
   for (const auto& path : leftovers) {

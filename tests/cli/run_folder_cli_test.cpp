@@ -21,40 +21,9 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string slurp(const fs::path& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream text;
-  text << in.rdbuf();
-  return text.str();
-}
-
-// Entries of `folder` whose names start with a dot: staging folders and temporary files.
-std::vector<std::string> hiddenEntries(const fs::path& folder) {
-  std::vector<std::string> names;
-  for (const auto& entry : fs::directory_iterator(folder)) {
-    const std::string name = entry.path().filename().string();
-    if (!name.empty() && name[0] == '.') names.push_back(name);
-  }
-  return names;
-}
-
-// Starts artemis with `args`; the caller waits for or kills it.
-pid_t spawn(const std::vector<std::string>& args) {
-  const pid_t pid = ::fork();
-  if (pid == 0) {
-    std::vector<char*> argv;
-    std::string program = ARTEMIS_CLI_PATH;
-    argv.push_back(program.data());
-    std::vector<std::string> copy = args;
-    for (auto& a : copy) argv.push_back(a.data());
-    argv.push_back(nullptr);
-    std::freopen("/dev/null", "w", stdout);
-    std::freopen("/dev/null", "w", stderr);
-    ::execv(program.c_str(), argv.data());
-    ::_exit(127);
-  }
-  return pid;
-}
+using test::hiddenEntries;
+using test::slurp;
+using test::spawnCli;
 
 class RunFolder : public ::testing::Test {
  protected:
@@ -76,7 +45,7 @@ TEST_F(RunFolder, AKilledRunLeavesTheFolderAsItWasAndTheNextRunCleansUp) {
   ASSERT_FALSE(mesh.empty());
 
   const pid_t pid =
-      spawn({"run", (dir_ / "sim").string(), "--texture", "off", "--voxel-size", "0.3", "--out", out().string()});
+      spawnCli({"run", (dir_ / "sim").string(), "--texture", "off", "--voxel-size", "0.3", "--out", out().string()});
   ASSERT_GT(pid, 0);
   // Killed once it has started writing (its configuration is staged first), well before its mesh.
   const fs::path staged_config = out() / (".staging-" + std::to_string(pid)) / "config.json";
@@ -103,9 +72,7 @@ TEST_F(RunFolder, AKilledRunLeavesTheFolderAsItWasAndTheNextRunCleansUp) {
 TEST_F(RunFolder, AMoveStoppedHalfWayIsFinishedByTheNextReader) {
   ASSERT_EQ(runInto("").exit_code, 0);
   // A process that has ended: its pid names the stopped run's staging folder.
-  const pid_t dead = ::fork();
-  if (dead == 0) ::_exit(0);
-  ASSERT_EQ(::waitpid(dead, nullptr, 0), dead);
+  const pid_t dead = test::endedPid();
   const fs::path staging = out() / (".staging-" + std::to_string(dead));
   fs::create_directory(staging);
   // The stopped run wrote a new mesh and configuration and no semantics; its configuration was
@@ -127,7 +94,8 @@ TEST_F(RunFolder, AKilledSimulationLeavesTheOldSequence) {
   const fs::path velodyne = dir_ / "sim" / "sequences" / "00" / "velodyne";
   const auto scans = [&velodyne] { return std::distance(fs::directory_iterator(velodyne), fs::directory_iterator{}); };
   ASSERT_EQ(scans(), 8);
-  const pid_t pid = spawn({"sim", "--preset", "demo", "--frames", "30", "--force", "--out", (dir_ / "sim").string()});
+  const pid_t pid =
+      spawnCli({"sim", "--preset", "demo", "--frames", "30", "--force", "--out", (dir_ / "sim").string()});
   ASSERT_GT(pid, 0);
   // Killed once it has written a few frames of the new sequence.
   const fs::path staged = dir_ / "sim" / (".staging-" + std::to_string(pid)) / "sequences" / "00" / "velodyne";

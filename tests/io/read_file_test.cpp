@@ -5,9 +5,12 @@
 
 #include <gtest/gtest.h>
 #include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <filesystem>
 #include <fstream>
+#include <string>
 
 #include "artemis/io/ply.hpp"
 #include "support/test_support.hpp"
@@ -63,6 +66,52 @@ TEST(ReadFile, SaysWhyAPathLeadsNowhere) {
   std::ofstream(dir / "plain") << "x";
   expectError(readTextFile(dir / "plain" / "inside", kSmall).status(), StatusCode::kNotFound, "inside",
               "a part of the path is a file");
+}
+
+// The message of reading `path` in a child process without privileges (user and group nobody when
+// the tests run as root, as in CI containers): root would read any file.
+std::string messageUnprivileged(const fs::path& path) {
+  int fds[2];
+  if (::pipe(fds) != 0) return "pipe failed";
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    ::close(fds[0]);
+    std::string message = "cannot drop privileges";
+    if (::getuid() != 0 || (::setgid(65534) == 0 && ::setuid(65534) == 0)) {
+      message = readTextFile(path, kSmall).status().message();
+    }
+    const auto written = ::write(fds[1], message.data(), message.size());
+    ::_exit(written < 0 ? 1 : 0);
+  }
+  ::close(fds[1]);
+  std::string message;
+  char buffer[256];
+  for (ssize_t n = 0; (n = ::read(fds[0], buffer, sizeof(buffer))) > 0;)
+    message.append(buffer, static_cast<std::size_t>(n));
+  ::close(fds[0]);
+  ::waitpid(pid, nullptr, 0);
+  return message;
+}
+
+TEST(ReadFile, SaysWhenPermissionIsDenied) {
+  test::TempDir dir;
+  fs::permissions(dir.path(), fs::perms::owner_all | fs::perms::group_read | fs::perms::group_exec |
+                                  fs::perms::others_read | fs::perms::others_exec);
+  std::ofstream(dir / "calib.txt") << "P0: 1";
+  fs::permissions(dir / "calib.txt", fs::perms::owner_write);
+  fs::create_directory(dir / "private");
+  std::ofstream(dir / "private" / "calib.txt") << "P0: 1";
+  fs::permissions(dir / "private", fs::perms::owner_all);
+  if (::getuid() != 0) fs::permissions(dir / "private", fs::perms::none);
+
+  std::string message = messageUnprivileged(dir / "calib.txt");
+  EXPECT_NE(message.find((dir / "calib.txt").string() + ": permission denied (cannot be read)"), std::string::npos)
+      << message;
+  message = messageUnprivileged(dir / "private" / "calib.txt");
+  EXPECT_NE(message.find("private/calib.txt: permission denied (a folder on its path cannot be searched)"),
+            std::string::npos)
+      << message;
+  fs::permissions(dir / "private", fs::perms::owner_all);
 }
 
 TEST(ReadFile, RefusesAFileOverItsKindsLimitBeforeReadingIt) {
