@@ -30,6 +30,8 @@ class RegisterStep {
   Isometry3d run(Frame& frame, const Isometry3d& prior, const std::optional<Isometry3d>& last_T, int frames_since,
                  double last_stamp_s, RunReport& report);
 
+  // The scan-to-map registration; nullptr without pose refinement.
+  [[nodiscard]] const registration::Odometry* odometry() const { return odometry_; }
   // Frames whose sweep could not be deskewed (each logged).
   [[nodiscard]] std::size_t notDeskewed() const { return not_deskewed_; }
 

@@ -1,0 +1,85 @@
+#include "refinement_stage.hpp"
+
+#include <algorithm>
+
+#include "artemis/core/log.hpp"
+#include "artemis/core/timer.hpp"
+
+namespace artemis::pipeline {
+
+namespace {
+
+// The voxels of every view refined or revisited in a frame (or at the end), for the observer.
+void absorb(std::optional<mapping::RefinementStats>& into, mapping::RefinementStats r) {
+  if (into) {
+    into->voxels.insert(into->voxels.end(), r.voxels.begin(), r.voxels.end());
+  } else {
+    into = std::move(r);
+  }
+}
+
+}  // namespace
+
+RefinementStage::RefinementStage(mapping::Mapper& mapper, const RunParams& params, RunReport& report)
+    : mapper_(mapper),
+      params_(params),
+      report_(report),
+      revisits_(params.texture && params.texture_revisit > params.texture_delay) {}
+
+WaitingView* RefinementStage::waitingView(std::size_t i) {
+  const auto view = std::find_if(waiting_.begin(), waiting_.end(), [i](const WaitingView& v) { return v.i == i; });
+  return view == waiting_.end() ? nullptr : &*view;
+}
+
+std::optional<mapping::RefinementStats> RefinementStage::runDue(std::size_t i) {
+  std::optional<mapping::RefinementStats> looked_at;
+  const auto delay = static_cast<std::size_t>(params_.texture_delay);
+  for (; !waiting_.empty() && waiting_.front().i + delay <= i; waiting_.pop_front()) {
+    absorb(looked_at, refine(waiting_.front(), true));
+  }
+  const auto revisit_after = static_cast<std::size_t>(params_.texture_revisit);
+  for (; !kept_.empty() && kept_.front().i + revisit_after <= i; kept_.pop_front()) {
+    absorb(looked_at, revisit(kept_.front()));
+  }
+  return looked_at;
+}
+
+std::optional<mapping::RefinementStats> RefinementStage::flush() {
+  std::optional<mapping::RefinementStats> looked_at;
+  for (; !waiting_.empty(); waiting_.pop_front()) absorb(looked_at, refine(waiting_.front(), false));
+  for (; !kept_.empty(); kept_.pop_front()) absorb(looked_at, revisit(kept_.front()));
+  return looked_at;
+}
+
+mapping::RefinementStats RefinementStage::refine(WaitingView& d, bool keep) {
+  Stopwatch clock;
+  mapping::ViewMemory memory;
+  const mapping::RefinementInput input{&d.frame.cameras[d.camera],
+                                       d.texture,
+                                       d.semantics ? &d.observation : nullptr,
+                                       &d.frame.points_L,
+                                       keep && revisits_ && d.texture ? &memory : nullptr,
+                                       params_.semantics.vocabulary};
+  const mapping::RefinementStats r = mapper_.refine(input, d.T_W_L);
+  if (!memory.empty()) kept_.push_back({std::move(d.frame.cameras[d.camera]), std::move(memory), d.i, d.frame.index});
+  report_.times.add("refine", clock.elapsedMs());
+  report_.frames_textured += d.texture ? 1 : 0;
+  report_.frames_semantic_refined += d.semantics ? 1 : 0;
+  log::debug(
+      "frame {}: refinement: {} voxels in view, {} faces rendered, {} vertices in view, {} coloured, {} "
+      "labelled, gain {:.3f}; cull {:.1f} ms, depth {:.1f} ms, fuse {:.1f} ms",
+      d.frame.index, r.voxels_in_view, r.faces_rendered, r.vertices_in_view, r.vertices_updated, r.vertices_labelled,
+      r.gain, r.cull_ms, r.depth_ms, r.fuse_ms);
+  return r;
+}
+
+mapping::RefinementStats RefinementStage::revisit(const KeptView& k) {
+  Stopwatch clock;
+  const mapping::RefinementStats r = mapper_.revisit(k.view, k.memory);
+  report_.times.add("revisit", clock.elapsedMs());
+  log::debug("frame {}: revisit: {} grey vertices added since in view, {} coloured (in {} voxels); {:.1f} ms", k.index,
+             r.vertices_in_view, r.vertices_updated, r.voxels_in_view, clock.elapsedMs());
+  return r;
+}
+
+}  // namespace artemis::pipeline

@@ -1,0 +1,66 @@
+#pragma once
+// Internal to the pipeline module: stage 2 over the run. A frame's view waits texture_delay frames
+// (RunParams) before it is refined, with its scan, image and masks, so that later scans have meshed
+// what it saw; a refined textured view is then kept until texture_revisit to colour what was meshed
+// since. Both queues are bounded by those settings; the views left at the end are refined against
+// the final mesh.
+
+#include <cstddef>
+#include <deque>
+#include <optional>
+
+#include "artemis/core/frame.hpp"
+#include "artemis/core/transform.hpp"
+#include "artemis/mapping/mapper.hpp"
+#include "artemis/pipeline/run.hpp"
+
+namespace artemis::pipeline {
+
+// A view waiting for its refinement.
+struct WaitingView {
+  Frame frame;
+  std::size_t camera = 0;  // into frame.cameras
+  semantics::SemanticObservation observation;
+  bool texture = false;
+  bool semantics = false;
+  Isometry3d T_W_L = Isometry3d::Identity();
+  std::size_t i = 0;  // its place in the range
+};
+
+class RefinementStage {
+ public:
+  // The mapper, settings and report must outlive the stage; refinement times and counts go to
+  // `report`.
+  RefinementStage(mapping::Mapper& mapper, const RunParams& params, RunReport& report);
+
+  void add(WaitingView view) { waiting_.push_back(std::move(view)); }
+  // The view of the range's i-th frame, while it waits (nullptr once refined, or never added).
+  WaitingView* waitingView(std::size_t i);
+
+  // After stage 1 of the range's i-th frame: refines the views now due (one a frame, more after an
+  // unreadable frame) and revisits the kept views now due. Returns the voxels they all looked at
+  // (nullopt: none was due).
+  std::optional<mapping::RefinementStats> runDue(std::size_t i);
+  // After the final meshing: every view still waiting or kept.
+  std::optional<mapping::RefinementStats> flush();
+
+ private:
+  struct KeptView {
+    CameraView view;
+    mapping::ViewMemory memory;
+    std::size_t i = 0;
+    std::size_t index = 0;  // the frame's
+  };
+  // `keep`: the view is kept for a revisit (not after the final meshing: nothing is added since).
+  mapping::RefinementStats refine(WaitingView& view, bool keep);
+  mapping::RefinementStats revisit(const KeptView& kept);
+
+  mapping::Mapper& mapper_;
+  const RunParams& params_;
+  RunReport& report_;
+  bool revisits_;
+  std::deque<WaitingView> waiting_;  // oldest first
+  std::deque<KeptView> kept_;        // oldest first
+};
+
+}  // namespace artemis::pipeline
