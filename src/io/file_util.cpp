@@ -9,6 +9,7 @@
 #include <cerrno>
 #include <charconv>
 #include <cstring>
+#include <limits>
 #include <string_view>
 #include <system_error>
 
@@ -91,7 +92,7 @@ Status AtomicFile::commit() {
 namespace artemis::io {
 
 bool processRunning(long pid) {
-  if (pid <= 0) return false;
+  if (pid <= 0 || pid > std::numeric_limits<pid_t>::max()) return false;
   if (pid == static_cast<long>(::getpid())) return true;
   return ::kill(static_cast<pid_t>(pid), 0) == 0 || errno == EPERM;
 }

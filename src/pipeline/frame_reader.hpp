@@ -23,6 +23,9 @@ class FrameReader {
   // `segmentation`: offline segmentation riding with the reader, or nullptr. Both must outlive
   // the reader. Reading of the range's first frame starts here.
   FrameReader(const datasets::Dataset& dataset, SegmentationStage* segmentation);
+  // Its reading thread holds `this`: neither copied nor moved.
+  FrameReader(const FrameReader&) = delete;
+  FrameReader& operator=(const FrameReader&) = delete;
 
   // The range's next frame (waiting for it where it is not read yet); the one after starts reading.
   // Call at most dataset.size() times.

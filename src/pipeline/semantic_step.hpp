@@ -31,6 +31,9 @@ class SemanticStep {
   // Semantics on when params.semantics.segmenter is set (with a brush and a vocabulary). The
   // objects must outlive the step.
   SemanticStep(const RunParams& params, mapping::Mapper& mapper, RunReport& report);
+  // The reader holds a pointer to its offline stage: neither copied nor moved.
+  SemanticStep(const SemanticStep&) = delete;
+  SemanticStep& operator=(const SemanticStep&) = delete;
 
   // Offline segmentation, for the reader to run; nullptr in real time or without semantics.
   SegmentationStage* offline() { return offline_ ? &*offline_ : nullptr; }

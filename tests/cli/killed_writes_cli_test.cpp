@@ -90,11 +90,21 @@ TEST_F(KilledWrites, AnExportKilledWhileWritingLeavesTheOldFileAndTheNextCleansU
   for (int attempt = 0; attempt < 5 && !killed_while_writing; ++attempt) {
     const pid_t pid = test::spawnCli({"export", big().string(), "--format", "glb", "-o", glb.string()});
     ASSERT_GT(pid, 0);
+    // Polled without sleeping (the temporary file lives for milliseconds); a child that ended
+    // before it was seen ends this try.
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::seconds(60);
+    int status = 0;
+    bool exited = false;
     while (!hasEntryStartingWith(out(), ".map.glb.tmp-") && std::chrono::steady_clock::now() < deadline) {
+      if (::waitpid(pid, &status, WNOHANG) == pid) {
+        exited = true;
+        break;
+      }
     }
-    ::kill(pid, SIGKILL);
-    killed_while_writing = endedBySignal(pid) && hasEntryStartingWith(out(), ".map.glb.tmp-");
+    if (!exited) {
+      ::kill(pid, SIGKILL);
+      killed_while_writing = endedBySignal(pid) && hasEntryStartingWith(out(), ".map.glb.tmp-");
+    }
     if (!killed_while_writing) {
       // It finished: start again from the small export.
       ASSERT_EQ(test::runCli("export " + small().string() + " --format glb -o " + glb.string()).exit_code, 0);
