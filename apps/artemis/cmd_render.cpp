@@ -44,11 +44,6 @@ struct RenderFlags {
   bool json = false;
 };
 
-int fail(const Status& status) {
-  log::error("{}", status.message());
-  return 1;
-}
-
 // A free camera at `eye` looking at `target`, world z up (x right, y down, z forward).
 Result<render::View> freeView(const RenderFlags& flags) {
   std::vector<double> v;

@@ -3,6 +3,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include "artemis/core/status.hpp"
+
 namespace artemis::cli {
 
 void addDatasetCommands(CLI::App& app, int& exit_code);
@@ -13,5 +15,8 @@ void addGroundCommand(CLI::App& app, int& exit_code);
 void addRenderCommand(CLI::App& app, int& exit_code);
 void addExportCommand(CLI::App& app, int& exit_code);
 void addViewCommand(CLI::App& app, int& exit_code);
+
+// Logs the error and returns the exit code of a failed command, 1.
+int fail(const Status& status);
 
 }  // namespace artemis::cli

@@ -25,6 +25,7 @@
 #include "artemis/eval/semantics.hpp"
 #include "artemis/io/file.hpp"
 #include "box_placement.hpp"
+#include "commands.hpp"
 #include "eval_semantics.hpp"
 #include "progress.hpp"
 #include "run_classes.hpp"
@@ -74,7 +75,7 @@ struct BoxScores {
   }
 };
 
-std::optional<double> ratio(std::uint64_t num, std::uint64_t den) {
+std::optional<double> ratioOrNone(std::uint64_t num, std::uint64_t den) {
   if (den == 0) return std::nullopt;
   return static_cast<double>(num) / static_cast<double>(den);
 }
@@ -87,8 +88,8 @@ Json sourceJson(const eval::SemanticScore& s, bool with_coverage) {
   Json classes = Json::object();
   for (const auto& c : s.classes) {
     classes[c.name] = {{"iou", c.present ? Json(c.iou) : Json(nullptr)},
-                       {"precision", orNull(ratio(c.true_positive, c.true_positive + c.false_positive))},
-                       {"recall", orNull(ratio(c.true_positive, c.truth_points))},
+                       {"precision", orNull(ratioOrNone(c.true_positive, c.true_positive + c.false_positive))},
+                       {"recall", orNull(ratioOrNone(c.true_positive, c.truth_points))},
                        {"true_positive", c.true_positive},
                        {"false_positive", c.false_positive},
                        {"false_negative", c.false_negative},
@@ -115,8 +116,8 @@ void printScores(const std::string& title, const BoxScores& b) {
   fmt::print("{} ({} points scored, {} ignored):\n", title, mesh.points, b.ignored);
   for (std::size_t c = 0; c < mesh.classes.size(); ++c) {
     for (const auto* s : {&mesh.classes[c], &masks.classes[c]}) {
-      const auto precision = ratio(s->true_positive, s->true_positive + s->false_positive);
-      const auto recall = ratio(s->true_positive, s->truth_points);
+      const auto precision = ratioOrNone(s->true_positive, s->true_positive + s->false_positive);
+      const auto recall = ratioOrNone(s->true_positive, s->truth_points);
       fmt::print("  {:<12} {:<12} {:>9} {:>11} {:>9} {:>11} {:>11}\n", s->name,
                  s == &mesh.classes[c] ? "fused mesh" : "masks alone", percent(s->present, s->iou),
                  percent(precision.has_value(), precision.value_or(0.0)),
@@ -124,11 +125,6 @@ void printScores(const std::string& title, const BoxScores& b) {
                  s->true_positive + s->false_positive);
     }
   }
-}
-
-int fail(const Status& status) {
-  log::error("{}", status.message());
-  return 1;
 }
 
 }  // namespace

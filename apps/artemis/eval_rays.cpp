@@ -16,6 +16,7 @@
 #include "artemis/datasets/pose_file.hpp"
 #include "artemis/eval/ray_consistency.hpp"
 #include "artemis/io/file.hpp"
+#include "commands.hpp"
 #include "flag_checks.hpp"
 #include "progress.hpp"
 #include "run_folder.hpp"
@@ -37,11 +38,6 @@ struct RayEvalFlags {
   std::string json;  // empty: RUN/rays.json
 };
 
-int fail(const Status& status) {
-  log::error("{}", status.message());
-  return 1;
-}
-
 // The run's recording over its frame range, gated by the flags' range, with its poses.
 Result<RunDataset> openRunScans(const RayEvalFlags& flags) {
   datasets::DatasetOptions options;
@@ -61,7 +57,7 @@ Json countsJson(const eval::RayCounts& c) {
   return {{"surface", c.surface}, {"blocked", c.blocked}, {"hole", c.hole}, {"rays", c.total()}};
 }
 
-double ratio(std::size_t part, std::size_t whole) {
+double shareOf(std::size_t part, std::size_t whole) {
   return whole == 0 ? 0.0 : static_cast<double>(part) / static_cast<double>(whole);
 }
 
@@ -74,14 +70,14 @@ Json blockedJson(const eval::RayTally& t, const eval::RayConsistencyParams& p) {
     histogram.push_back({{"from_m", k == 0 ? 0.0F : edges[k - 1]},
                          {"to_m", k < edges.size() ? Json(edges[k]) : Json(nullptr)},
                          {"rays", bins[k]},
-                         {"share", ratio(bins[k], t.all.blocked)}});
+                         {"share", shareOf(bins[k], t.all.blocked)}});
   }
   return {{"rays", t.all.blocked},
           {"ground_returns", b.ground},
-          {"ground_share", ratio(b.ground, t.all.blocked)},
+          {"ground_share", shareOf(b.ground, t.all.blocked)},
           {"ground_drop_m", p.ground_drop_m},
           {"horizontal_face", b.horizontal_face},
-          {"horizontal_face_share", ratio(b.horizontal_face, t.all.blocked)},
+          {"horizontal_face_share", shareOf(b.horizontal_face, t.all.blocked)},
           {"median_gap_m", b.medianGap_m()},
           {"gap_histogram", histogram}};
 }
@@ -101,9 +97,9 @@ void printTable(const eval::RayTally& t, std::size_t frames, const RayEvalFlags&
   fmt::print(
       "blocked: {:.1f}% of them ground returns (> {} m below the sensor), {:.1f}% stopped by a level face; "
       "median {:.2f} m in front of the return\n",
-      100.0 * ratio(t.blocked.ground, t.all.blocked), flags.params.ground_drop_m,
-      100.0 * ratio(t.blocked.horizontal_face, t.all.blocked), t.blocked.medianGap_m());
-  fmt::print("hole: {:.1f}% of them hit nothing at all\n", 100.0 * ratio(t.hole_no_hit, t.all.hole));
+      100.0 * shareOf(t.blocked.ground, t.all.blocked), flags.params.ground_drop_m,
+      100.0 * shareOf(t.blocked.horizontal_face, t.all.blocked), t.blocked.medianGap_m());
+  fmt::print("hole: {:.1f}% of them hit nothing at all\n", 100.0 * shareOf(t.hole_no_hit, t.all.hole));
 }
 
 Json settingsJson(const RayEvalFlags& flags, const RunDataset& scans) {

@@ -24,6 +24,7 @@
 #include "artemis/io/file.hpp"
 #include "artemis/io/ply.hpp"
 #include "artemis/semantics/vocabulary.hpp"
+#include "commands.hpp"
 #include "eval_semantics.hpp"
 #include "flag_checks.hpp"
 #include "progress.hpp"
@@ -117,11 +118,6 @@ void printTable(const eval::SemanticScore& inside, const eval::SemanticScore& al
              inside.miou_classes, all.miou_classes);
   fmt::print("{:<16} {:>15} {:>10} {:>19} {:>12}\n", "coverage", percent(inside.points > 0, inside.coverage),
              percent(all.points > 0, all.coverage), inside.points, all.points);
-}
-
-int fail(const Status& status) {
-  log::error("{}", status.message());
-  return 1;
 }
 
 int runSemanticsEval(const SemanticsEvalFlags& flags) {

@@ -19,6 +19,7 @@
 #include "artemis/io/file.hpp"
 #include "artemis/io/png.hpp"
 #include "artemis/render/rasterizer.hpp"
+#include "commands.hpp"
 #include "flag_checks.hpp"
 #include "progress.hpp"
 #include "run_folder.hpp"
@@ -110,11 +111,6 @@ struct Tally {
             {"views", views}};
   }
 };
-
-int fail(const Status& status) {
-  log::error("{}", status.message());
-  return 1;
-}
 
 int runTextureEval(const TextureEvalFlags& flags) {
   const fs::path run(flags.run);

@@ -8,6 +8,15 @@
 #include "artemis/core/log.hpp"
 #include "commands.hpp"
 
+namespace artemis::cli {
+
+int fail(const Status& status) {
+  log::error("{}", status.message());
+  return 1;
+}
+
+}  // namespace artemis::cli
+
 namespace {
 
 int run(int argc, char** argv) {

@@ -18,20 +18,18 @@
 #include "artemis/datasets/kitti_boxes.hpp"
 #include "artemis/io/png.hpp"
 #include "cli_run.hpp"
+#include "json_file.hpp"
 #include "support/test_support.hpp"
 
 namespace artemis {
 namespace {
 
+using test::readJson;
+
 namespace fs = std::filesystem;
 
 fs::path labelsPath() {
   return test::dataDir() / "kitti_raw/tracking_labels.txt";
-}
-
-nlohmann::json readJson(const fs::path& path) {
-  std::ifstream in(path);
-  return nlohmann::json::parse(in);
 }
 
 // One mask per labelled 2-D box of frames [first, last), class car, in the mask-file layout.

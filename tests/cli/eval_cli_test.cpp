@@ -10,10 +10,13 @@
 
 #include "artemis/io/ply.hpp"
 #include "cli_run.hpp"
+#include "json_file.hpp"
 #include "support/test_support.hpp"
 
 namespace artemis {
 namespace {
+
+using test::readJson;
 
 // The 10 x 10 m square [0, 10]^2 at height z, as 8 x 8 quads of two triangles.
 void writeSquare(const std::filesystem::path& path, float z) {
@@ -43,11 +46,6 @@ void writeSquareCloud(const std::filesystem::path& path, float z) {
     }
   }
   ASSERT_TRUE(io::writePly(path, io::makePlyMesh({&xyz, nullptr, nullptr, nullptr})).isOk());
-}
-
-nlohmann::json readJson(const std::filesystem::path& path) {
-  std::ifstream in(path);
-  return nlohmann::json::parse(in);
 }
 
 // Fewer samples than the protocol's 2 million keep the test fast; the density is the protocol's.

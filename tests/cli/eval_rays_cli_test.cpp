@@ -13,17 +13,15 @@
 
 #include "artemis/io/ply.hpp"
 #include "cli_run.hpp"
+#include "json_file.hpp"
 #include "support/test_support.hpp"
 
 namespace artemis {
 namespace {
 
-namespace fs = std::filesystem;
+using test::readJson;
 
-nlohmann::json readJson(const fs::path& path) {
-  std::ifstream in(path);
-  return nlohmann::json::parse(in);
-}
+namespace fs = std::filesystem;
 
 // One simulated street and one run of it, shared by the tests (a few seconds to make).
 class CliEvalRays : public ::testing::Test {

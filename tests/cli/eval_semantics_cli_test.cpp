@@ -16,10 +16,13 @@
 #include "artemis/io/ply.hpp"
 #include "artemis/semantics/vocabulary.hpp"
 #include "cli_run.hpp"
+#include "json_file.hpp"
 #include "support/test_support.hpp"
 
 namespace artemis {
 namespace {
+
+using test::readJson;
 
 namespace fs = std::filesystem;
 
@@ -95,11 +98,6 @@ void writeRun(const fs::path& dir, const LabelledCloud& mesh, const std::vector<
   ASSERT_TRUE(datasets::writePoseFile(dir / "trajectory.txt", trajectory).isOk());
   const nlohmann::json config = {{"dataset", {{"path", (sim / "sequences" / "00").string()}, {"frames", frames}}}};
   writeText(dir / "config.json", config.dump(2));
-}
-
-nlohmann::json readJson(const fs::path& path) {
-  std::ifstream in(path);
-  return nlohmann::json::parse(in);
 }
 
 // The recording's LiDAR poses, as a run's trajectory.txt would hold them (written and read back,

@@ -10,9 +10,12 @@
 
 #include "artemis/io/ply.hpp"
 #include "cli_run.hpp"
+#include "json_file.hpp"
 
 namespace artemis {
 namespace {
+
+using test::readJson;
 
 namespace fs = std::filesystem;
 using test::runCli;
@@ -28,11 +31,6 @@ Kitti kitti(int frames) {
   return {raw.string() + " --frames 0:" + std::to_string(frames) + " --poses " +
           (raw / "reference_poses.txt").string() + " --pose-refinement off --texture off --query cars" +
           " --segmenter dnn --model " + model.string() + " --model-config " + config.string() + " --threads 2"};
-}
-
-nlohmann::json readJson(const fs::path& path) {
-  std::ifstream in(path);
-  return nlohmann::json::parse(in);
 }
 
 TEST(RunDnn, EveryFrameIsSegmentedAndTheCarsAreLabelled) {

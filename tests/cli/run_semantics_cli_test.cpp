@@ -13,29 +13,27 @@
 #include "artemis/io/ply.hpp"
 #include "artemis/io/png.hpp"
 #include "cli_run.hpp"
+#include "json_file.hpp"
 
 namespace artemis {
 namespace {
+
+using test::readJson;
 
 namespace fs = std::filesystem;
 using test::runCli;
 
 // Four frames of the demo street at a quarter of KITTI's azimuth resolution (quick).
-fs::path simulate(const test::TempDir& tmp) {
+fs::path simulateFourFrames(const test::TempDir& tmp) {
   const fs::path out = tmp / "sim";
   const auto r = runCli("sim --preset demo --frames 4 --azimuth-step 0.72 --out " + out.string());
   EXPECT_EQ(r.exit_code, 0) << r.err;
   return out;
 }
 
-nlohmann::json readJson(const fs::path& path) {
-  std::ifstream in(path);
-  return nlohmann::json::parse(in);
-}
-
 TEST(RunSemantics, SimulatedSegmenterWritesClassesConfidenceAndColours) {
   test::TempDir tmp;
-  const fs::path sim = simulate(tmp);
+  const fs::path sim = simulateFourFrames(tmp);
   const fs::path out = tmp / "run";
   const auto r =
       runCli("run " + sim.string() + " --query \"cars and buildings\" --segmenter sim --segmenter-noise none " +
@@ -122,7 +120,7 @@ TEST(RunSemantics, SimulatedSegmenterWritesClassesConfidenceAndColours) {
 
 TEST(RunSemantics, MaskFilesWithGapsAndBadFilesAreCountedAndLogged) {
   test::TempDir tmp;
-  const fs::path sim = simulate(tmp);
+  const fs::path sim = simulateFourFrames(tmp);
   // Masks for frames 0 and 1 from the simulator's own class images (a car mask per car pixel);
   // frame 2 has a mask file with a bad score; frame 3 has none.
   const fs::path masks = tmp / "masks";
@@ -157,7 +155,7 @@ TEST(RunSemantics, MaskFilesWithGapsAndBadFilesAreCountedAndLogged) {
 
 TEST(RunSemantics, BadSettingsAreClearErrors) {
   test::TempDir tmp;
-  const fs::path sim = simulate(tmp);
+  const fs::path sim = simulateFourFrames(tmp);
   const std::string out = " --out " + (tmp / "run").string();
   const auto expect_error = [&](const std::string& args, const std::string& message) {
     const auto r = runCli("run " + args + out);
@@ -185,7 +183,7 @@ namespace {
 
 TEST(RunTexture, ColoursTheMeshAndHoldsOutFrames) {
   test::TempDir tmp;
-  const fs::path sim = simulate(tmp);
+  const fs::path sim = simulateFourFrames(tmp);
   const fs::path out = tmp / "run";
   const auto r = runCli("run " + sim.string() + " --texture-holdout 2 --out " + out.string());
   ASSERT_EQ(r.exit_code, 0) << r.err;
@@ -217,7 +215,7 @@ TEST(RunTexture, ColoursTheMeshAndHoldsOutFrames) {
 // A view kept for a revisit then colours what was added after its refinement.
 TEST(RunTexture, DelayedViewsColourWhatLaterScansMeshed) {
   test::TempDir tmp;
-  const fs::path sim = simulate(tmp);
+  const fs::path sim = simulateFourFrames(tmp);
   const auto coloured = [](const fs::path& mesh) {
     auto ply = io::readPly(mesh);
     EXPECT_TRUE(ply);
@@ -279,7 +277,7 @@ namespace {
 
 TEST(EvalTexture, ScoresHeldOutViewsAndTheSplatBaseline) {
   test::TempDir tmp;
-  const fs::path sim = simulate(tmp);
+  const fs::path sim = simulateFourFrames(tmp);
   const fs::path out = tmp / "run";
   ASSERT_EQ(runCli("run " + sim.string() + " --texture-holdout 2 --out " + out.string()).exit_code, 0);
   const auto r = runCli("eval texture " + out.string() + " --json " + (tmp / "t.json").string());

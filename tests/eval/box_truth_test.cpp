@@ -15,14 +15,14 @@
 namespace artemis::eval {
 namespace {
 
-constexpr SemanticId kCar = 1;
-constexpr SemanticId kPerson = 11;
+constexpr SemanticId kCarClass = 1;
+constexpr SemanticId kPersonClass = 11;
 
 // A 4 x 2 x 1.5 m box whose bottom face is centred on the origin.
 TruthBox carBox() {
   TruthBox box;
   box.size_m = {4.0, 2.0, 1.5};
-  box.class_id = kCar;
+  box.class_id = kCarClass;
   return box;
 }
 
@@ -79,7 +79,7 @@ TEST(BoxTruth, RotatedBoxAgreesWithItsFaces) {
   for (std::size_t i = 0; i < points.size(); ++i) {
     const bool in = insideByFaces(box, points[i].cast<double>());
     inside += in ? 1 : 0;
-    ASSERT_EQ(truth[i], in ? kCar : kOutsideBoxes) << points[i].transpose();
+    ASSERT_EQ(truth[i], in ? kCarClass : kOutsideBoxes) << points[i].transpose();
   }
   EXPECT_GT(inside, 500U);
   // Along its length: 1.9 m from the centre is inside, 2.1 m is not, on the yawed axis.
@@ -95,7 +95,7 @@ TEST(BoxTruth, ShellsBottomsOverlapsAndIgnoredRegions) {
   TruthBox person;  // overlapping the car's front
   person.T_F_B = Eigen::Isometry3d(Eigen::Translation3d(2.0, 0.0, 0.0));
   person.size_m = {0.8, 0.8, 1.8};
-  person.class_id = kPerson;
+  person.class_id = kPersonClass;
   TruthBox truck;  // an ignored region
   truck.T_F_B = Eigen::Isometry3d(Eigen::Translation3d(-10.0, 0.0, 0.0));
   truck.size_m = {6.0, 2.5, 3.0};
@@ -117,8 +117,8 @@ TEST(BoxTruth, ShellsBottomsOverlapsAndIgnoredRegions) {
   };
   const std::vector<TruthBox> boxes{car, person, truck, other};
   const auto truth = boxTruth(points, boxes, {});
-  const std::vector<SemanticId> expected{kCar,          kNoSemanticClass, kNoSemanticClass, kNoSemanticClass,
-                                         kPerson,       kNoSemanticClass, kOutsideBoxes,    kNoSemanticClass,
+  const std::vector<SemanticId> expected{kCarClass,     kNoSemanticClass, kNoSemanticClass, kNoSemanticClass,
+                                         kPersonClass,  kNoSemanticClass, kOutsideBoxes,    kNoSemanticClass,
                                          kOutsideBoxes, kNoSemanticClass};
   EXPECT_EQ(truth, expected);
 
@@ -126,7 +126,7 @@ TEST(BoxTruth, ShellsBottomsOverlapsAndIgnoredRegions) {
   TruthBox car2 = car;
   car2.T_F_B = Eigen::Isometry3d(Eigen::Translation3d(1.0, 0.0, 0.0));
   const std::vector<TruthBox> cars{car, car2};
-  EXPECT_EQ(boxTruth(std::vector<Eigen::Vector3f>{{1.5F, 0.0F, 1.0F}}, cars, {}), std::vector<SemanticId>{kCar});
+  EXPECT_EQ(boxTruth(std::vector<Eigen::Vector3f>{{1.5F, 0.0F, 1.0F}}, cars, {}), std::vector<SemanticId>{kCarClass});
 
   // Degenerate input: no points; no boxes; a zero-size box; negative sizes and shells throw.
   EXPECT_TRUE(boxTruth({}, boxes, {}).empty());
@@ -146,9 +146,9 @@ TEST(BoxTruth, ShellsBottomsOverlapsAndIgnoredRegions) {
 
 // "Not a boxed class" is a labelled point of no evaluated class: the accumulator's "other" row.
 TEST(BoxTruth, OutsideBoxesCountsAsOtherTruth) {
-  SemanticAccumulator acc({{kCar, "car"}});
-  const std::vector<SemanticId> truth{kCar, kCar, kOutsideBoxes, kOutsideBoxes, kNoSemanticClass};
-  const std::vector<SemanticId> predicted{kCar, kNoSemanticClass, kCar, kNoSemanticClass, kCar};
+  SemanticAccumulator acc({{kCarClass, "car"}});
+  const std::vector<SemanticId> truth{kCarClass, kCarClass, kOutsideBoxes, kOutsideBoxes, kNoSemanticClass};
+  const std::vector<SemanticId> predicted{kCarClass, kNoSemanticClass, kCarClass, kNoSemanticClass, kCarClass};
   acc.add(truth, predicted, {});
   const SemanticScore s = acc.all();
   EXPECT_EQ(s.points, 4U);

@@ -56,17 +56,17 @@ struct Grid {
 // Quads are removed from the back of the face list first, so that earlier indices stay valid.
 TEST(HoleFilling, ClosesAMissingQuadLikeTheFacesAround) {
   Grid grid(6, 0.2f);
-  const std::size_t outline = test::boundaryEdges(grid.faces).size();
+  const std::size_t outline = artemis::test::boundaryEdges(grid.faces).size();
   grid.punch(2, 2);
-  ASSERT_EQ(test::boundaryEdges(grid.faces).size(), outline + 4);
+  ASSERT_EQ(artemis::test::boundaryEdges(grid.faces).size(), outline + 4);
   HoleFillStats stats;
   const std::vector<Face> fills = holeFillingFaces(grid.faces, grid.positions, kMaxEdge, {}, &stats);
   ASSERT_EQ(fills.size(), 2u);
   EXPECT_EQ(stats.filled, 1u);
   for (const Face& f : fills) EXPECT_GT(grid.normalZ(f), 0.99f);  // wound like the grid
   const std::vector<Face> all = grid.with(fills);
-  EXPECT_EQ(test::boundaryEdges(all).size(), outline);  // only the grid's own outline is left
-  const test::MeshChecks checks = test::checkMesh(grid.positions, all);
+  EXPECT_EQ(artemis::test::boundaryEdges(all).size(), outline);  // only the grid's own outline is left
+  const artemis::test::MeshChecks checks = artemis::test::checkMesh(grid.positions, all);
   EXPECT_EQ(checks.non_manifold_edges, 0u);
   EXPECT_EQ(checks.duplicate_faces, 0u);
   EXPECT_EQ(checks.zero_area_faces, 0u);
@@ -74,15 +74,15 @@ TEST(HoleFilling, ClosesAMissingQuadLikeTheFacesAround) {
 
 TEST(HoleFilling, ClosesTwoHolesThatTouchAtACorner) {
   Grid grid(7, 0.2f);
-  const std::size_t outline = test::boundaryEdges(grid.faces).size();
+  const std::size_t outline = artemis::test::boundaryEdges(grid.faces).size();
   grid.punch(3, 3);  // shares vertex (3, 3) with quad (2, 2)
   grid.punch(2, 2);
   HoleFillStats stats;
   const std::vector<Face> fills = holeFillingFaces(grid.faces, grid.positions, kMaxEdge, {}, &stats);
   EXPECT_EQ(stats.filled, 2u);
   EXPECT_EQ(fills.size(), 4u);
-  EXPECT_EQ(test::boundaryEdges(grid.with(fills)).size(), outline);
-  EXPECT_EQ(test::checkMesh(grid.positions, grid.with(fills)).non_manifold_edges, 0u);
+  EXPECT_EQ(artemis::test::boundaryEdges(grid.with(fills)).size(), outline);
+  EXPECT_EQ(artemis::test::checkMesh(grid.positions, grid.with(fills)).non_manifold_edges, 0u);
 }
 
 TEST(HoleFilling, LeavesAnIslandsOutlineAlone) {

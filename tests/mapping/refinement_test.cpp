@@ -16,10 +16,6 @@ namespace artemis::mapping {
 namespace {
 
 using test::wall;
-CameraView camera() {
-  return test::forwardCamera();
-}
-
 // The image: a grey wall (sRGB 128), the board's pixels (|u - cx|, |v - cy| <= 20) red.
 ImageU8 picture(std::uint8_t wall_grey = 128) {
   ImageU8 image(200, 100, 3, wall_grey);
@@ -48,7 +44,7 @@ std::unique_ptr<Mapper> scene(const MapperParams& params = {}) {
 
 TEST(TextureRefinement, AVertexHiddenBehindANearerSurfaceGetsNoColour) {
   const auto mapper = scene();
-  CameraView view = camera();
+  CameraView view = test::forwardCamera();
   view.image = picture();
   const RefinementStats stats = mapper->refine({&view}, Isometry3d::Identity());
   const SemanticMesh& mesh = mapper->mesh();
@@ -99,7 +95,7 @@ TEST(TextureRefinement, AVertexHiddenBehindANearerSurfaceGetsNoColour) {
 
 TEST(TextureRefinement, ExposureGainIsEstimatedAgainstTheMap) {
   const auto mapper = scene();
-  CameraView view = camera();
+  CameraView view = test::forwardCamera();
   const SemanticMesh& mesh = mapper->mesh();
   view.image = picture(128);
   mapper->refine({&view}, Isometry3d::Identity());
@@ -121,7 +117,7 @@ TEST(TextureRefinement, CullingKeepsTheVoxelsInViewOnly) {
   const PointCloud behind = wall(-10.05f, 4.0f, 2.0f);  // behind the camera
   points.points.insert(points.points.end(), behind.points.begin(), behind.points.end());
   mapper.integrate(points, Isometry3d::Identity());
-  const CameraView view = camera();
+  const CameraView view = test::forwardCamera();
   const auto in_view = voxelsInView(mapper.voxels(), view.camera, view.T_L_C, 80.0);
   ASSERT_FALSE(in_view.empty());
   std::size_t ahead = 0;
@@ -141,7 +137,7 @@ TEST(TextureRefinement, CullingKeepsTheVoxelsInViewOnly) {
 // half of the wall (partly behind the board) and a patch at 8 m in front of the left half.
 struct RevisitScene {
   std::unique_ptr<Mapper> mapper;
-  CameraView view = camera();
+  CameraView view = test::forwardCamera();
   ViewMemory memory;
   std::vector<Eigen::Vector3f> variance_before;  // of the vertices the refinement saw
   RefinementStats stats;                         // the revisit's

@@ -15,9 +15,13 @@
 
 #include "artemis/mapping/semantic_constraint.hpp"
 #include "artemis/mapping/voxel_map.hpp"
+#include "class_ids.hpp"
 
 namespace artemis::mapping {
 namespace {
+
+using test_classes::kBuilding;
+using test_classes::kCar;
 
 using Eigen::Vector3d;
 using Eigen::Vector3f;
@@ -156,7 +160,8 @@ TEST(SemanticConstraint, APartlyActivePatchLowersTheFullEnergyByWhatItReports) {
   // those vertices and the ring around them only, and leaves out edges that cannot change.
   ConstraintPatch patch = noisyPlane();
   for (int i = 0; i < 12; ++i) {
-    for (int j = 0; j < 12; ++j) patch.active[static_cast<std::size_t>(i * 12 + j)] = i >= 4 && i < 8 && j >= 4 && j < 8;
+    for (int j = 0; j < 12; ++j)
+      patch.active[static_cast<std::size_t>(i * 12 + j)] = i >= 4 && i < 8 && j >= 4 && j < 8;
   }
   const auto full_energy = [](const ConstraintPatch& p) {
     ConstraintPatch all = p;
@@ -247,7 +252,8 @@ TEST(SemanticConstraint, ResultsDoNotDependOnTheThreadCount) {
     ConstraintPatch patch = gridPatch(
         60, 12, 0.1,
         [](double u, double v) {
-          return Vector3f(static_cast<float>(u), static_cast<float>(v), static_cast<float>(0.01 * std::sin(37.0 * u * v)));
+          return Vector3f(static_cast<float>(u), static_cast<float>(v),
+                          static_cast<float>(0.01 * std::sin(37.0 * u * v)));
         },
         [](double, double) { return Vector3f(0, 0, 1); }, [](double u, double) { return u < 3.0 ? 0 : 1; });
     // Blocks of 2.5 m along u, coloured alternately: vertices of same-coloured blocks are 2.5 m apart.
@@ -291,8 +297,6 @@ TEST(SemanticConstraint, RejectsMismatchedArraysAndBadSettings) {
   EXPECT_THROW(SemanticConstraint(SemanticConstraintParams{}, 0.0), std::invalid_argument);
 }
 
-constexpr semantics::ClassId kCar = 1;
-
 TEST(SemanticConstraint, CutsFacesJoiningTwoClassesAcrossADepthGap) {
   SemanticMesh mesh;
   mesh.addSemanticClass(kCar);
@@ -311,8 +315,8 @@ TEST(SemanticConstraint, CutsFacesJoiningTwoClassesAcrossADepthGap) {
   // Cells carry the evidence; each vertex has its own voxel index 0, so give the voxel prior no say.
   mesh.setVoxelPrior(1e-6f);
   const SemanticConstraint constraint(SemanticConstraintParams{}, 0.5);
-  EXPECT_TRUE(constraint.cuts(mesh, {car, road_near, road_side}));  // a car-road edge spans 0.3 m in depth
-  EXPECT_FALSE(constraint.cuts(mesh, {car, road_side, car_above}));  // car-road edges across the ray
+  EXPECT_TRUE(constraint.cuts(mesh, {car, road_near, road_side}));        // a car-road edge spans 0.3 m in depth
+  EXPECT_FALSE(constraint.cuts(mesh, {car, road_side, car_above}));       // car-road edges across the ray
   EXPECT_FALSE(constraint.cuts(mesh, {road_near, road_far, road_side}));  // one class across the gap
   SemanticConstraintParams never;
   never.cut_similarity = 0.0;
@@ -327,7 +331,9 @@ TEST(SemanticConstraint, ThePatchGrowsWithTheActiveVoxelsNotWithTheMap) {
   std::mt19937 rng(3);
   std::normal_distribution<float> noise(0.0f, 0.01f);
   for (int i = 0; i < 400; ++i) {
-    for (int j = 0; j < 400; ++j) points.emplace_back(0.05f + 0.1f * static_cast<float>(i), 0.05f + 0.1f * static_cast<float>(j), 0.2f + noise(rng));
+    for (int j = 0; j < 400; ++j)
+      points.emplace_back(0.05f + 0.1f * static_cast<float>(i), 0.05f + 0.1f * static_cast<float>(j),
+                          0.2f + noise(rng));
   }
   map.insert(points, Vector3f(20, 20, 2), mesh);
   // Faces: a simple grid over the kept points, each owned by the voxel of its first corner.

@@ -7,20 +7,18 @@
 
 #include "artemis/mapping/mapper.hpp"
 #include "camera_scenes.hpp"
+#include "class_ids.hpp"
 
 namespace artemis::mapping {
 namespace {
 
+using test_classes::kBuilding;
+using test_classes::kCar;
+
 using semantics::ClassId;
 using semantics::SemanticObservation;
-constexpr ClassId kCar = 1;
-constexpr ClassId kBuilding = 13;
 
 using test::wall;
-CameraView camera() {
-  return test::forwardCamera();
-}
-
 // Left half of the image (LiDAR y > 0) one mask of `cls` with `score`; the right half background.
 SemanticObservation leftHalf(ClassId cls, float score) {
   SemanticObservation obs;
@@ -42,7 +40,7 @@ MapperParams params(int threads = 0) {
 TEST(SemanticFusion, WeightIsMaskScoreTimesViewTimesDepthTerm) {
   Mapper mapper(params());
   mapper.addSemanticClass(kCar);
-  const CameraView view = camera();
+  const CameraView view = test::forwardCamera();
   const SemanticObservation obs = leftHalf(kCar, 0.8f);
   const SemanticInput input{&view, &obs};
   const PointCloud points = wall(10.05f, 4.0f, 2.0f);
@@ -69,7 +67,7 @@ TEST(SemanticFusion, WeightIsMaskScoreTimesViewTimesDepthTerm) {
 TEST(SemanticFusion, VerticesTheCameraNeverSawInheritTheirVoxelsDistribution) {
   Mapper mapper(params());
   mapper.addSemanticClass(kCar);
-  const CameraView view = camera();
+  const CameraView view = test::forwardCamera();
   const SemanticObservation obs = leftHalf(kCar, 0.8f);
   const SemanticInput input{&view, &obs};
   mapper.integrate(wall(10.05f, 4.0f, 2.0f), Isometry3d::Identity(), &input);
@@ -97,7 +95,7 @@ TEST(SemanticFusion, GrazingViewsWeighLess) {
   // The road-like plane z = -1.5 seen from the origin: cos(theta) = 1.5 / range.
   Mapper mapper(params());
   mapper.addSemanticClass(kCar);
-  const CameraView view = camera();
+  const CameraView view = test::forwardCamera();
   SemanticObservation obs = leftHalf(kCar, 1.0f);
   for (std::uint16_t& id : obs.mask_ids.data()) id = 1;  // all car
   PointCloud ground;
@@ -124,7 +122,7 @@ TEST(SemanticFusion, GrazingViewsWeighLess) {
 TEST(SemanticFusion, MasksBleedingAcrossAnOcclusionEdgeCountLittle) {
   Mapper mapper(params());
   mapper.addSemanticClass(kCar);
-  const CameraView view = camera();
+  const CameraView view = test::forwardCamera();
   // A car-sized board at 5 m (y in [-1, 1]) in front of a wall at 10 m.
   PointCloud points = wall(10.05f, 4.0f, 2.0f);
   const PointCloud board = wall(5.05f, 1.0f, 1.0f);
@@ -170,7 +168,7 @@ TEST(SemanticFusion, TheWeightedMajorityOverFramesWins) {
   Mapper mapper(params());
   mapper.addSemanticClass(kCar);
   mapper.addSemanticClass(kBuilding);
-  const CameraView view = camera();
+  const CameraView view = test::forwardCamera();
   const PointCloud points = wall(10.05f, 4.0f, 2.0f);
   const SemanticObservation car = leftHalf(kCar, 0.6f);
   const SemanticObservation building = leftHalf(kBuilding, 0.9f);
@@ -198,7 +196,7 @@ TEST(SemanticFusion, TheWeightedMajorityOverFramesWins) {
 TEST(SemanticFusion, ANewClassKeepsTheEvidenceGathered) {
   Mapper mapper(params());
   mapper.addSemanticClass(kCar);
-  const CameraView view = camera();
+  const CameraView view = test::forwardCamera();
   const PointCloud points = wall(10.05f, 4.0f, 2.0f);
   const SemanticObservation car = leftHalf(kCar, 0.8f);
   const SemanticInput input{&view, &car};
@@ -223,7 +221,7 @@ TEST(SemanticFusion, SameEvidenceOnOneAndTwoThreads) {
   std::normal_distribution<float> noise(0.0f, 0.02f);
   PointCloud points = wall(10.05f, 4.0f, 2.0f);
   for (auto& p : points.points) p += Eigen::Vector3f(noise(rng), noise(rng), noise(rng));
-  const CameraView view = camera();
+  const CameraView view = test::forwardCamera();
   const SemanticObservation car = leftHalf(kCar, 0.8f);
   const SemanticInput input{&view, &car};
   std::vector<std::vector<float>> evidence;

@@ -10,12 +10,13 @@
 
 #include "artemis/mapping/mapper.hpp"
 #include "camera_scenes.hpp"
+#include "class_ids.hpp"
 
 namespace artemis::mapping {
 namespace {
 
-constexpr semantics::ClassId kCar = 1;
-constexpr semantics::ClassId kBuilding = 13;
+using test_classes::kBuilding;
+using test_classes::kCar;
 
 TEST(SemanticRefinement, LogProbabilitiesAddUpAndSoftmaxReadsThemOut) {
   SemanticMesh mesh;

@@ -23,7 +23,7 @@ constexpr ClassId kBuilding = 13;
 constexpr ClassId kVegetation = 15;
 
 // The street: 200 frames.
-constexpr int kFrames = 200;
+constexpr int kStreetFrames = 200;
 
 struct SemanticRun {
   std::unique_ptr<semantics::SimulatedSegmenter> segmenter;
@@ -41,7 +41,7 @@ const std::vector<eval::EvaluatedClass>& classes() {
 
 TEST(SimSemantics, FusionBeatsPerFrameMasksAndLosesNothingOnExactMasks) {
   sim::SimParams params;
-  params.frames = kFrames;
+  params.frames = kStreetFrames;
   const sim::Simulator sim(params);
   const semantics::Vocabulary& vocabulary = semantics::Vocabulary::semanticKitti();
   const std::vector<ClassId> prompts{kCar, kBuilding, kVegetation};
@@ -125,7 +125,7 @@ TEST(SimSemantics, FusionBeatsPerFrameMasksAndLosesNothingOnExactMasks) {
   std::printf(
       "%d frames, in-frustum IoU %%   fused (standard)   per-frame masks (standard)   fused (none)   per-frame "
       "(none)\n",
-      kFrames);
+      kStreetFrames);
   for (std::size_t c = 0; c < classes().size(); ++c) {
     std::printf("  %-12s %8.2f %8.2f %8.2f %8.2f\n", classes()[c].name.c_str(), 100 * fused[0].classes[c].iou,
                 100 * standard_masks.classes[c].iou, 100 * fused[1].classes[c].iou, 100 * exact_masks.classes[c].iou);
