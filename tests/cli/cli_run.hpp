@@ -13,6 +13,7 @@
 #include <string>
 #include <vector>
 
+#include "support/ended_process.hpp"
 #include "support/test_support.hpp"
 
 namespace artemis::test {
@@ -74,14 +75,6 @@ inline std::vector<std::string> hiddenEntries(const std::filesystem::path& folde
     if (!name.empty() && name[0] == '.') names.push_back(name);
   }
   return names;
-}
-
-// The pid of a process that has ended: files named after it are a stopped process's leftovers.
-inline pid_t endedPid() {
-  const pid_t pid = ::fork();
-  if (pid == 0) ::_exit(0);
-  ::waitpid(pid, nullptr, 0);
-  return pid;
 }
 
 }  // namespace artemis::test

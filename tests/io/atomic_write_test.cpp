@@ -1,7 +1,6 @@
 // Whole-file writes: the target is replaced whole, and the temporary files that killed writers left
 // beside a target are removed by its next write, never those of a writer still running.
 #include <gtest/gtest.h>
-#include <sys/wait.h>
 #include <unistd.h>
 
 #include <filesystem>
@@ -10,19 +9,13 @@
 #include <string>
 
 #include "artemis/io/file.hpp"
+#include "support/ended_process.hpp"
 #include "support/test_support.hpp"
 
 namespace artemis::io {
 namespace {
 
 namespace fs = std::filesystem;
-
-pid_t endedPid() {
-  const pid_t pid = ::fork();
-  if (pid == 0) ::_exit(0);
-  ::waitpid(pid, nullptr, 0);
-  return pid;
-}
 
 Status writeText(const fs::path& path, const std::string& text) {
   return writeFileAtomic(path, std::as_bytes(std::span(text.data(), text.size())));
@@ -36,14 +29,14 @@ TEST(AtomicWrite, TemporaryFileNamesSayTheirWriter) {
   EXPECT_FALSE(temporaryFileOwner(".mesh.ply.tmp--1-0"));
   EXPECT_FALSE(temporaryFileOwner(".mesh.ply"));
   EXPECT_TRUE(processRunning(::getpid()));
-  EXPECT_FALSE(processRunning(endedPid()));
+  EXPECT_FALSE(processRunning(test::endedPid()));
   EXPECT_FALSE(processRunning(0));
   EXPECT_FALSE(processRunning(-5));
 }
 
 TEST(AtomicWrite, ANewWriteRemovesWhatStoppedWritersOfTheSameFileLeft) {
   test::TempDir dir;
-  const std::string dead = std::to_string(endedPid());
+  const std::string dead = std::to_string(test::endedPid());
   const std::string alive = std::to_string(::getpid());
   for (const std::string& name :
        {".map.glb.tmp-" + dead + "-0", ".map.glb.tmp-" + dead + "-12", ".map.glb.tmp-" + alive + "-99",
