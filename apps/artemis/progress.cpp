@@ -5,6 +5,8 @@
 
 #include <cstdio>
 
+#include "artemis/pipeline/timing.hpp"
+
 namespace artemis::cli {
 
 namespace {
@@ -41,6 +43,8 @@ void ProgressLine::print(std::size_t done, std::size_t total, bool final_line) {
   const double rate = t > 0.0 ? static_cast<double>(done) / t : 0.0;
   const double pct = total > 0 ? 100.0 * static_cast<double>(done) / static_cast<double>(total) : 0.0;
   std::string line = fmt::format("{} {}/{} ({:.0f}%) {:.1f} {}/s, {:.1f} s", label_, done, total, pct, rate, unit_, t);
+  // Memory beside speed: a run that grows without bound shows it long before the machine runs out.
+  if (const double mb = pipeline::residentMb(); mb > 0.0) line += fmt::format(", {:.0f} MB", mb);
   if (tty_) {
     fmt::print(stderr, "\r\033[K{}{}", line, final_line ? "\n" : "");
   } else {

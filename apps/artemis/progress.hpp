@@ -1,5 +1,6 @@
 #pragma once
-// A progress line on stderr for anything that takes more than a second: "label 23/50 (46%) 18.2/s".
+// A progress line on stderr for anything that takes more than a second:
+// "label 23/50 (46%) 18.2 frames/s, 1.3 s, 412 MB" (the process's resident memory).
 // On a terminal the line is redrawn in place; otherwise a line is printed every few seconds.
 
 #include <cstddef>

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <fstream>
 #include <sstream>
+#include <string>
+#include <string_view>
 
 namespace artemis::pipeline {
 
@@ -34,18 +36,31 @@ StageSummary StageTimes::summary(const std::string& stage, std::size_t begin, st
   return {rank(0.5), rank(0.95), v.back()};
 }
 
-double peakRssMb() {
+namespace {
+
+// A "Name:   1234 kB" field of /proc/self/status in MiB, or 0 where unknown.
+double statusFieldMb(std::string_view name) {
   std::ifstream status("/proc/self/status");
   std::string line;
   while (std::getline(status, line)) {
-    if (line.rfind("VmHWM:", 0) == 0) {
-      std::istringstream in(line.substr(6));
+    if (line.size() > name.size() && line.compare(0, name.size(), name) == 0 && line[name.size()] == ':') {
+      std::istringstream in(line.substr(name.size() + 1));
       double kb = 0.0;
       in >> kb;
       return kb / 1024.0;
     }
   }
   return 0.0;
+}
+
+}  // namespace
+
+double peakRssMb() {
+  return statusFieldMb("VmHWM");
+}
+
+double residentMb() {
+  return statusFieldMb("VmRSS");
 }
 
 }  // namespace artemis::pipeline

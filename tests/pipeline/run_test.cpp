@@ -6,12 +6,14 @@
 #include <fstream>
 #include <iterator>
 #include <nlohmann/json.hpp>
+#include <vector>
 
 #include "artemis/datasets/dataset.hpp"
 #include "artemis/datasets/pose_file.hpp"
 #include "artemis/eval/geometry.hpp"
 #include "artemis/io/ply.hpp"
 #include "artemis/pipeline/run.hpp"
+#include "artemis/pipeline/timing.hpp"
 #include "artemis/sim/writer.hpp"
 #include "mesh_checks.hpp"
 #include "support/test_support.hpp"
@@ -84,6 +86,15 @@ TEST(RunPipeline, WritesMeshTrajectoryConfigAndTiming) {
     EXPECT_LE(timing["stages"][stage]["median_ms"].get<double>(), timing["stages"][stage]["p95_ms"].get<double>());
   }
   EXPECT_GT(timing["peak_rss_mb"].get<double>(), 10.0);
+}
+
+TEST(Timing, ResidentMemoryCountsWhatIsTouched) {
+  const double before = pipeline::residentMb();
+  ASSERT_GT(before, 1.0);
+  const std::vector<char> block(std::size_t{64} << 20, 1);  // 64 MiB, every page written
+  const double during = pipeline::residentMb();
+  EXPECT_GT(during - before, 50.0) << block.size();
+  EXPECT_LE(during, pipeline::peakRssMb() + 1.0);
 }
 
 TEST(RunPipeline, SameMeshWhateverTheThreadCount) {

@@ -29,5 +29,7 @@ class StageTimes {
 
 // Peak resident set size of this process in MiB (VmHWM), or 0 where unknown.
 double peakRssMb();
+// Resident set size of this process now in MiB (VmRSS), or 0 where unknown.
+double residentMb();
 
 }  // namespace artemis::pipeline
