@@ -28,12 +28,9 @@ std::set<int> tracksOf(const datasets::KittiBoxLabels& labels) {
 
 }  // namespace
 
-Result<std::vector<std::vector<ExclusionBox>>> placeExclusionBoxes(const datasets::KittiBoxLabels& labels,
-                                                                   const std::set<int>& tracks,
-                                                                   const Isometry3d& T_L_R0,
-                                                                   std::span<const Isometry3d> T_W_L,
-                                                                   std::size_t first_index,
-                                                                   const BoxExclusionParams& params) {
+Result<std::vector<std::vector<ExclusionBox>>> placeExclusionBoxes(
+    const datasets::KittiBoxLabels& labels, const std::set<int>& tracks, const Isometry3d& T_L_R0,
+    std::span<const Isometry3d> T_W_L, std::size_t first_index, const BoxExclusionParams& params) {
   if (!(params.length_padding_m >= 0.0) || !(params.side_padding_m >= 0.0)) {
     return invalidArgument(fmt::format("box padding: length {} m, sides {} m: expected values >= 0",
                                        params.length_padding_m, params.side_padding_m));

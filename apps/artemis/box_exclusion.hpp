@@ -50,12 +50,9 @@ struct ExclusionBox {
 // whose first frame is recording frame `first_index`. A box whose recording frame (label frame +
 // offset) lies outside the range is not used. Errors: labels without tracks (object label files),
 // a listed track absent from the labels, a negative padding.
-Result<std::vector<std::vector<ExclusionBox>>> placeExclusionBoxes(const datasets::KittiBoxLabels& labels,
-                                                                   const std::set<int>& tracks,
-                                                                   const Isometry3d& T_L_R0,
-                                                                   std::span<const Isometry3d> T_W_L,
-                                                                   std::size_t first_index,
-                                                                   const BoxExclusionParams& params);
+Result<std::vector<std::vector<ExclusionBox>>> placeExclusionBoxes(
+    const datasets::KittiBoxLabels& labels, const std::set<int>& tracks, const Isometry3d& T_L_R0,
+    std::span<const Isometry3d> T_W_L, std::size_t first_index, const BoxExclusionParams& params);
 
 // Removes the points of `points_L` (with their attributes) that lie inside any of `boxes_L` (a
 // point on a face is inside). Returns the points dropped per track; a point inside boxes of two

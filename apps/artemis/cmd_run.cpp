@@ -17,6 +17,7 @@
 #include "progress.hpp"
 #include "run_flags.hpp"
 #include "run_live_viewer.hpp"
+#include "run_resume.hpp"
 #include "run_semantics.hpp"
 #include "run_summary.hpp"
 #include "viewer/session.hpp"
@@ -44,7 +45,8 @@ Result<std::string> demoDataset(const fs::path& out) {
   return where.string();
 }
 
-int runRun(RunFlags flags) {
+// `args`: the flags as given, kept beside the checkpoints for --resume.
+int runRun(RunFlags flags, const std::vector<std::string>& args) {
   auto box = parseVehicleBox(flags.vehicle_box);
   if (!box) {
     log::error("{}", box.status().message());
@@ -103,12 +105,19 @@ int runRun(RunFlags flags) {
     }
     live = std::move(*started);
   }
+  flags.params.resume_record_json = resumeRecordJson({args, fs::current_path()});
   Stopwatch clock;
   ProgressLine progress("mapping", "frames");
+  StopOnInterrupt interrupt;
+  flags.params.stop_requested = interrupt.flag();
   auto report = pipeline::runPipeline(**dataset, flags.params, flags.out, config,
                                       [&](std::size_t done, std::size_t total) { progress.update(done, total); });
   progress.finish();
   if (!report) {
+    if (interrupt.requested()) {
+      log::warn("{}", report.status().message());
+      return 130;
+    }
     log::error("{}", report.status().message());
     return 1;
   }
@@ -126,6 +135,45 @@ int runRun(RunFlags flags) {
   return 0;
 }
 
+// --resume OUT: the run in OUT again, with the flags it was started with, in the folder it was
+// started in, from its checkpoint.
+int resumeRun(const CLI::App& cmd, const std::string& folder) {
+  for (const CLI::Option* opt : cmd.get_options()) {
+    if (opt->count() > 0 && opt->get_lnames() != std::vector<std::string>{"resume"}) {
+      log::error("--resume takes no other flags: the run goes on with the settings it was started with ({} given)",
+                 opt->get_name());
+      return 1;
+    }
+  }
+  std::error_code ec;
+  const fs::path out = fs::absolute(folder, ec);
+  auto record = readResumeRecord(out);
+  if (!record) return fail(record.status());
+  if (record->working_dir != fs::current_path()) {
+    fs::current_path(record->working_dir, ec);
+    if (ec) {
+      log::error("{}: the run was started in {}, which cannot be entered: {}", out.string(),
+                 record->working_dir.string(), ec.message());
+      return 1;
+    }
+    log::info("resuming in {}, where the run was started", record->working_dir.string());
+  }
+  RunFlags flags;
+  CLI::App again;
+  addRunFlags(again, flags);
+  std::vector<std::string> reversed(record->args.rbegin(), record->args.rend());
+  try {
+    again.parse(reversed);
+  } catch (const CLI::ParseError& e) {
+    log::error("{}: its flags no longer parse ({}); run again without --resume", (out / "checkpoint.json").string(),
+               e.what());
+    return 1;
+  }
+  flags.out = out.string();
+  flags.params.resume = true;
+  return runRun(std::move(flags), record->args);
+}
+
 }  // namespace
 
 void addRunCommand(CLI::App& app, int& exit_code) {
@@ -135,7 +183,9 @@ void addRunCommand(CLI::App& app, int& exit_code) {
       "Build the Living Map of a recording: mesh.ply, trajectory.txt, config.json, timing.json in --out. "
       "With no PATH it simulates the demo street (artemis sim --preset demo) and maps that");
   addRunFlags(*cmd, *flags);
-  cmd->callback([flags, &exit_code] { exit_code = runRun(*flags); });
+  cmd->callback([flags, cmd, &exit_code] {
+    exit_code = flags->resume.empty() ? runRun(*flags, givenArgs(*cmd)) : resumeRun(*cmd, flags->resume);
+  });
 }
 
 }  // namespace artemis::cli

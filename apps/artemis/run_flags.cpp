@@ -231,6 +231,14 @@ void addSemanticFlags(CLI::App& cmd, RunFlags& f) {
 void addRunFlags(CLI::App& cmd, RunFlags& flags) {
   flags.dataset.addTo(cmd, /*with_poses=*/true, /*poses_none=*/true);
   cmd.add_option("-o,--out", flags.out, "Output folder")->capture_default_str();
+  cmd.add_option("--checkpoint-every", flags.params.checkpoint_every,
+                 "Write the run's state to OUT/checkpoint.bin after every N frames (0: never), and on Ctrl-C; "
+                 "a stopped or killed run goes on with --resume OUT")
+      ->capture_default_str()
+      ->check(CLI::NonNegativeNumber);
+  cmd.add_option("--resume", flags.resume,
+                 "Go on with the run in this output folder from its last checkpoint, with the settings it was "
+                 "started with (no other flags); its outputs equal those of a run never stopped");
   addMapperFlags(cmd, flags);
   addConstraintFlags(cmd, flags.params.mapper.constraint);
   addRegistrationFlags(cmd, flags);

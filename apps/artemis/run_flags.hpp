@@ -20,6 +20,7 @@ namespace artemis::cli {
 struct RunFlags {
   DatasetFlags dataset;
   std::string out = "out/run";
+  std::string resume;  // --resume: the run folder to go on with
   std::string pose_refinement = "auto";
   pipeline::RunParams params;
   // Semantics

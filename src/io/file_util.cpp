@@ -17,17 +17,15 @@
 
 namespace artemis::io::detail {
 
-namespace {
+inline constexpr std::string_view kTempMarker = ".tmp-";
 
-constexpr std::string_view kTempMarker = ".tmp-";
-
-std::string errnoText() {
+static std::string errnoText() {
   return std::strerror(errno);
 }
 
 // Unique within the process (counter) and across processes (pid): two writers of the same
 // target never share a temporary file.
-std::filesystem::path tempPathFor(const std::filesystem::path& target) {
+static std::filesystem::path tempPathFor(const std::filesystem::path& target) {
   static std::atomic<unsigned> counter{0};
   std::string name(".");
   name.append(target.filename().string());
@@ -38,7 +36,12 @@ std::filesystem::path tempPathFor(const std::filesystem::path& target) {
   return target.parent_path() / name;
 }
 
-}  // namespace
+}  // namespace artemis::io::detail
+
+namespace artemis::io {
+
+using detail::errnoText;
+using detail::tempPathFor;
 
 AtomicFile::~AtomicFile() {
   if (file_ != nullptr) std::fclose(file_);
@@ -87,10 +90,6 @@ Status AtomicFile::commit() {
   return Status::ok();
 }
 
-}  // namespace artemis::io::detail
-
-namespace artemis::io {
-
 bool processRunning(long pid) {
   if (pid <= 0 || pid > std::numeric_limits<pid_t>::max()) return false;
   if (pid == static_cast<long>(::getpid())) return true;
@@ -137,6 +136,15 @@ Status writeFileAtomic(const std::filesystem::path& path, std::span<const std::b
   detail::AtomicFile file;
   if (Status s = file.open(path); !s.isOk()) return s;
   if (Status s = file.write(bytes.data(), bytes.size()); !s.isOk()) return s;
+  return file.commit();
+}
+
+Status writeFileAtomic(const std::filesystem::path& path, std::span<const std::span<const std::byte>> parts) {
+  detail::AtomicFile file;
+  if (Status s = file.open(path); !s.isOk()) return s;
+  for (const std::span<const std::byte> part : parts) {
+    if (Status s = file.write(part.data(), part.size()); !s.isOk()) return s;
+  }
   return file.commit();
 }
 

@@ -8,28 +8,11 @@
 #include <vector>
 
 #include "artemis/core/status.hpp"
+#include "artemis/io/file.hpp"
 
 namespace artemis::io::detail {
 
-// A file written under a temporary name next to its target and renamed into place by commit().
-// Destroyed without a successful commit(), it removes the temporary file: the target is never
-// left half-written, and an existing target stays as it was.
-class AtomicFile {
- public:
-  AtomicFile() = default;
-  ~AtomicFile();
-  AtomicFile(const AtomicFile&) = delete;
-  AtomicFile& operator=(const AtomicFile&) = delete;
-
-  Status open(const std::filesystem::path& target);
-  Status write(const void* data, std::size_t size);
-  Status commit();
-
- private:
-  Status writeError();
-  std::filesystem::path target_;
-  std::filesystem::path temp_;
-  std::FILE* file_ = nullptr;
-};
+// Atomic writes are io::AtomicFile (artemis/io/file.hpp); the writers here name it so.
+using AtomicFile = io::AtomicFile;
 
 }  // namespace artemis::io::detail

@@ -29,7 +29,11 @@ constexpr float kGrazingSlope = 3.0f;
 FreeSpaceCarver::FreeSpaceCarver(const FreeSpaceParams& params, const MesherParams& mesher,
                                  const Eigen::AlignedBox3f& vehicle_box_L)
     : params_(params), mesher_(mesher), vehicle_box_L_(vehicle_box_L) {
-  current_.image = std::make_unique<detail::RangeImage>(kAzimuthStepDeg, kElevationStepDeg);
+  current_.image = newSweepImage();
+}
+
+std::unique_ptr<detail::RangeImage> FreeSpaceCarver::newSweepImage() {
+  return std::make_unique<detail::RangeImage>(kAzimuthStepDeg, kElevationStepDeg);
 }
 
 FreeSpaceCarver::~FreeSpaceCarver() = default;
@@ -69,7 +73,7 @@ CarveStats FreeSpaceCarver::carve(const std::vector<Eigen::Vector3f>& points_L, 
       next = std::move(earlier_.back());
       earlier_.pop_back();
     } else {
-      next.image = std::make_unique<detail::RangeImage>(kAzimuthStepDeg, kElevationStepDeg);
+      next.image = newSweepImage();
     }
     std::swap(next, current_);
     earlier_.push_front(std::move(next));

@@ -12,6 +12,11 @@
 
 #include <Eigen/Core>
 
+namespace artemis {
+class ArchiveWriter;
+class ArchiveReader;
+}  // namespace artemis
+
 namespace artemis::mapping::detail {
 
 // atan2 to within ~1e-5 rad (a minimax polynomial), a few times faster than std::atan2: the
@@ -38,6 +43,9 @@ class RangeImage {
   // Worked out when first asked (few returns ever are) and kept; thread-safe.
   [[nodiscard]] bool grazing(const Return& q) const;
   [[nodiscard]] bool empty() const { return returns_.empty(); }
+  // Checkpoints (mapping/checkpoint.cpp): the built image; load() into one made with the same steps.
+  void save(ArchiveWriter& out) const;
+  void load(ArchiveReader& in);
 
   // The bin of unit direction d_L (its row may lie outside the image).
   struct Cell {

@@ -2,9 +2,9 @@
 
 namespace artemis::pipeline {
 
-FrameReader::FrameReader(const datasets::Dataset& dataset, SegmentationStage* segmentation)
-    : dataset_(dataset), segmentation_(segmentation) {
-  if (dataset_.size() > 0) pending_ = std::async(std::launch::async, &FrameReader::read, this, std::size_t{0});
+FrameReader::FrameReader(const datasets::Dataset& dataset, SegmentationStage* segmentation, std::size_t first)
+    : dataset_(dataset), segmentation_(segmentation), next_(first) {
+  if (next_ < dataset_.size()) pending_ = std::async(std::launch::async, &FrameReader::read, this, next_);
 }
 
 ReadFrame FrameReader::next() {

@@ -21,14 +21,14 @@ struct ReadFrame {
 class FrameReader {
  public:
   // `segmentation`: offline segmentation riding with the reader, or nullptr. Both must outlive
-  // the reader. Reading of the range's first frame starts here.
-  FrameReader(const datasets::Dataset& dataset, SegmentationStage* segmentation);
+  // the reader. Reading of the range's frame `first` (a resumed run's) starts here.
+  FrameReader(const datasets::Dataset& dataset, SegmentationStage* segmentation, std::size_t first = 0);
   // Its reading thread holds `this`: neither copied nor moved.
   FrameReader(const FrameReader&) = delete;
   FrameReader& operator=(const FrameReader&) = delete;
 
   // The range's next frame (waiting for it where it is not read yet); the one after starts reading.
-  // Call at most dataset.size() times.
+  // Call at most dataset.size() - first times.
   ReadFrame next();
 
  private:

@@ -11,6 +11,11 @@
 #include "artemis/datasets/dataset.hpp"
 #include "artemis/registration/odometry.hpp"
 
+namespace artemis {
+class ArchiveWriter;
+class ArchiveReader;
+}  // namespace artemis
+
 namespace artemis::pipeline {
 
 class PoseTrack {
@@ -36,6 +41,10 @@ class PoseTrack {
   [[nodiscard]] int framesSinceLast(std::size_t i) const { return static_cast<int>(i - last_i_); }
   // Row-major 3x4 T_W_L, a line per frame so far.
   [[nodiscard]] const std::string& trajectory() const { return trajectory_; }
+
+  // Checkpoints (stage_checkpoint.cpp).
+  void save(ArchiveWriter& out) const;
+  void load(ArchiveReader& in);
 
  private:
   void appendLine(const Isometry3d& T);

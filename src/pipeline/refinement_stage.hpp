@@ -11,8 +11,14 @@
 
 #include "artemis/core/frame.hpp"
 #include "artemis/core/transform.hpp"
+#include "artemis/datasets/dataset.hpp"
 #include "artemis/mapping/mapper.hpp"
 #include "artemis/pipeline/run.hpp"
+
+namespace artemis {
+class ArchiveWriter;
+class ArchiveReader;
+}  // namespace artemis
 
 namespace artemis::pipeline {
 
@@ -43,6 +49,11 @@ class RefinementStage {
   std::optional<mapping::RefinementStats> runDue(std::size_t i);
   // After the final meshing: every view still waiting or kept.
   std::optional<mapping::RefinementStats> flush();
+
+  // Checkpoints (stage_checkpoint.cpp): the waiting views whole (scan, image, masks); the kept
+  // views' reference depths, their images read again from `dataset` on load.
+  void save(ArchiveWriter& out) const;
+  void load(ArchiveReader& in, const datasets::Dataset& dataset);
 
  private:
   struct KeptView {

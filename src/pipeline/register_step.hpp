@@ -13,6 +13,11 @@
 #include "artemis/pipeline/run.hpp"
 #include "artemis/registration/odometry.hpp"
 
+namespace artemis {
+class ArchiveWriter;
+class ArchiveReader;
+}  // namespace artemis
+
 namespace artemis::pipeline {
 
 class RegisterStep {
@@ -34,6 +39,10 @@ class RegisterStep {
   [[nodiscard]] const registration::Odometry* odometry() const { return odometry_; }
   // Frames whose sweep could not be deskewed (each logged).
   [[nodiscard]] std::size_t notDeskewed() const { return not_deskewed_; }
+
+  // Checkpoints (stage_checkpoint.cpp): its counts; the odometry is saved by its owner.
+  void save(ArchiveWriter& out) const;
+  void load(ArchiveReader& in);
 
  private:
   void deskew(Frame& frame, const Isometry3d& motion, double period_s);

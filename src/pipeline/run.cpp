@@ -2,14 +2,18 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
+#include <cstring>
 #include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
 
+#include "artemis/core/archive.hpp"
 #include "artemis/core/log.hpp"
 #include "artemis/core/timer.hpp"
 #include "artemis/pipeline/output_folder.hpp"
+#include "checkpoint.hpp"
 #include "frame_reader.hpp"
 #include "pose_track.hpp"
 #include "refinement_stage.hpp"
@@ -66,8 +70,9 @@ void logHoleFilling(const mapping::HoleFillStats& holes) {
 // and counts to the report.
 class Run {
  public:
+  // `first`: the range frame reading starts at (a resumed run's; load() its state before frame()).
   Run(const datasets::Dataset& dataset, const RunParams& params, bool recording_poses, registration::Odometry* odometry,
-      RunReport& report)
+      RunReport& report, std::size_t first)
       : dataset_(dataset),
         params_(params),
         report_(report),
@@ -76,15 +81,23 @@ class Run {
         poses_(dataset, recording_poses, odometry),
         stage2_(mapper_, params, report),
         semantics_(params, mapper_, report),
-        reader_(dataset, semantics_.offline()) {}
+        reader_(dataset, semantics_.offline(), first) {}
 
   // The range's i-th frame through every stage; false when it could not be read (logged, counted).
   bool frame(std::size_t i);
   // The final meshing, then the views still waiting.
   void finish();
+  // Checkpoints: every stage's state between two frames (in real time, after the segmenter's
+  // frame in flight was fused), and back. The odometry is saved by its owner.
+  void save(ArchiveWriter& out);
+  void load(ArchiveReader& in);
+  // After load(): the observer hears of the whole map, as of the frames before `first`.
+  void announceResumed(std::size_t first);
 
   [[nodiscard]] const mapping::Mapper& mapper() const { return mapper_; }
   [[nodiscard]] const std::string& trajectory() const { return poses_.trajectory(); }
+  [[nodiscard]] const semantics::ActiveBrush* brush() const { return params_.semantics.brush; }
+  [[nodiscard]] const RunParams& params() const { return params_; }
 
  private:
   void recordMapping(const mapping::FrameStats& stats, double read_ms, std::size_t frame_index);
@@ -200,6 +213,35 @@ void Run::finish() {
   report_.faces = mapper_.mesh().faceCount();
 }
 
+void Run::save(ArchiveWriter& out) {
+  if (params_.semantics.realtime) semantics_.drain(stage2_);
+  out.section("run");
+  out.value(static_cast<std::uint8_t>(warned_vehicle_box_));
+  poses_.save(out);
+  register_.save(out);
+  semantics_.save(out);
+  mapper_.save(out);
+  stage2_.save(out);
+  saveReport(out, report_);
+}
+
+void Run::load(ArchiveReader& in) {
+  in.section("run");
+  warned_vehicle_box_ = in.value<std::uint8_t>() != 0;
+  poses_.load(in);
+  register_.load(in);
+  semantics_.load(in);
+  mapper_.load(in);
+  stage2_.load(in, dataset_);
+  loadReport(in, report_);
+}
+
+void Run::announceResumed(std::size_t first) {
+  if (!params_.observer || first == 0) return;
+  params_.observer({mapper_, first, dataset_.size(), dataset_.firstIndex() + first - 1,
+                    poses_.lastPose().value_or(Isometry3d::Identity()), nullptr, report_.times, false});
+}
+
 void Run::warnAboutRefusedPoints() const {
   if (const std::size_t refused = mapper_.voxels().rejectedPoints(); refused > 0) {
     log::warn("{} points more than 1000 km from the origin were refused (broken poses?)", refused);
@@ -211,12 +253,58 @@ void Run::warnAboutRefusedPoints() const {
   if (register_.notDeskewed() > 0) log::warn("{} frames were not deskewed (see above)", register_.notDeskewed());
 }
 
+// Where a run stands at a checkpoint: the next range frame, the brush, the odometry, every stage.
+Status saveCheckpoint(Run& run, std::size_t next, const registration::Odometry* odometry, const fs::path& out,
+                      const std::string& config_json, RunReport& report) {
+  Stopwatch clock;
+  if (!run.params().resume_record_json.empty()) {
+    if (Status s = writeText(out / kResumeRecordFile, run.params().resume_record_json); !s.isOk()) return s;
+  }
+  ++report.checkpoints;  // counted in the state it writes: a resumed run reports them all
+  auto size = writeCheckpoint(out / kCheckpointFile, config_json, [&](ArchiveWriter& state) {
+    state.value(static_cast<std::uint64_t>(next));
+    saveBrush(state, run.brush());
+    state.value(static_cast<std::uint8_t>(odometry != nullptr));
+    if (odometry != nullptr) odometry->save(state);
+    run.save(state);
+  });
+  if (!size) return size.status();
+  report.checkpoint_mb = static_cast<double>(*size) / (1024.0 * 1024.0);
+  report.checkpoint_max_ms = std::max(report.checkpoint_max_ms, clock.elapsedMs());
+  log::debug("checkpoint before frame {}: {:.1f} MB in {:.0f} ms", next, report.checkpoint_mb, clock.elapsedMs());
+  return Status::ok();
+}
+
+// Loads the checkpoint into a run made to start at its frame.
+Status loadCheckpoint(const Resumed& resumed, Run& run, registration::Odometry* odometry, const fs::path& out) {
+  ArchiveReader in(resumed.state, (out / kCheckpointFile).string());
+  try {
+    in.value<std::uint64_t>();
+    loadBrush(in, nullptr);  // restored before the run was made (restoreBrush)
+    const bool has_odometry = in.value<std::uint8_t>() != 0;
+    if (has_odometry != (odometry != nullptr)) in.fail("pose refinement was on in one run and off in the other");
+    if (odometry != nullptr) odometry->load(in);
+    run.load(in);
+    if (!in.atEnd()) in.fail("bytes left over after the run's state");
+  } catch (const ArchiveError& e) {
+    return parseError(e.what());
+  }
+  return Status::ok();
+}
+
 }  // namespace
 
 Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& params, const fs::path& out,
                               const std::string& config_json, const ProgressFn& progress) {
   const bool recording_poses = params.use_recording_poses && dataset.hasPoses();
   if (Status s = checkParams(params, recording_poses); !s.isOk()) return s;
+  const std::size_t total = dataset.size();
+  std::optional<Resumed> resumed;
+  if (params.resume) {
+    auto opened = openCheckpoint(out, config_json, total);
+    if (!opened) return opened.status();
+    resumed = std::move(*opened);
+  }
   // Outputs appear together at the end; a failed or killed run leaves `out` as it was.
   auto folder = OutputFolder::open(out, runOutputNames());
   if (!folder) return folder.status();
@@ -231,10 +319,31 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
     }
   }
   RunReport report;
-  Run run(dataset, params, recording_poses, odometry.get(), report);
-  const std::size_t total = dataset.size();
-  for (std::size_t i = 0; i < total; ++i) {
+  const std::size_t first = resumed ? resumed->next : 0;
+  if (resumed) {
+    if (Status s = restoreBrush(*resumed, params.semantics.brush, out); !s.isOk()) return s;
+  }
+  Run run(dataset, params, recording_poses, odometry.get(), report, first);
+  if (resumed) {
+    if (Status s = loadCheckpoint(*resumed, run, odometry.get(), out); !s.isOk()) return s;
+    resumed.reset();
+    report.resumed_at = first;
+    run.announceResumed(first);
+    log::info("resumed from {} at frame {} of {}", (out / kCheckpointFile).string(), first, total);
+  }
+  const auto every = static_cast<std::size_t>(std::max(params.checkpoint_every, 0));
+  for (std::size_t i = first; i < total; ++i) {
     if (run.frame(i) && progress) progress(i + 1, total);
+    const bool stop = params.stop_requested != nullptr && params.stop_requested->load() && i + 1 < total;
+    if ((stop || (every > 0 && (i + 1) % every == 0 && i + 1 < total)) && report.frames > 0) {
+      if (Status s = saveCheckpoint(run, i + 1, odometry.get(), out, config_json, report); !s.isOk()) return s;
+    }
+    if (stop) {
+      return Status(
+          StatusCode::kInvalidArgument,
+          fmt::format("stopped after frame {} of {}: {} holds the run so far; artemis run --resume {} goes on", i + 1,
+                      total, (out / kCheckpointFile).string(), out.string()));
+    }
   }
   if (report.frames == 0) return invalidArgument("no frame could be read; nothing written");
   run.finish();

@@ -122,6 +122,10 @@ std::string timingJson(const RunReport& report) {
   j["points_in_vehicle_path"] = report.points_in_vehicle_path;
   j["points_carved"] = report.points_carved;
   j["holes_filled"] = report.holes_filled;
+  j["checkpoints"] = {{"written", report.checkpoints},
+                      {"last_mb", report.checkpoint_mb},
+                      {"max_ms", report.checkpoint_max_ms},
+                      {"resumed_at_frame", report.resumed_at}};
   return j.dump(2) + "\n";
 }
 

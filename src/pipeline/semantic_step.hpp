@@ -17,6 +17,11 @@
 #include "artemis/pipeline/segmentation_stage.hpp"
 #include "refinement_stage.hpp"
 
+namespace artemis {
+class ArchiveWriter;
+class ArchiveReader;
+}  // namespace artemis
+
 namespace artemis::pipeline {
 
 // A frame's semantics for stage 1.
@@ -46,6 +51,10 @@ class SemanticStep {
   void acceptArrived(RefinementStage& stage2);
   // Real time: waits for the job in flight and fuses what arrived (after the final meshing).
   void drain(RefinementStage& stage2);
+
+  // Checkpoints (stage_checkpoint.cpp): its counts. In real time, drain() first.
+  void save(ArchiveWriter& out) const;
+  void load(ArchiveReader& in);
 
  private:
   void offer(std::size_t i, const Frame& frame, const CameraView* view, FrameSemantics& out);

@@ -32,4 +32,22 @@ std::vector<QueryRecord> ActiveBrush::history() const {
   return queries_;
 }
 
+std::size_t ActiveBrush::applied() const {
+  const std::lock_guard lock(mutex_);
+  return applied_;
+}
+
+void ActiveBrush::restore(std::vector<QueryRecord> history, std::size_t applied) {
+  const std::lock_guard lock(mutex_);
+  queries_ = std::move(history);
+  applied_ = std::min(applied, queries_.size());
+  for (std::size_t k = applied_; k < queries_.size(); ++k) queries_[k].first_frame = -1;
+  prompts_.clear();
+  for (std::size_t k = 0; k < applied_; ++k) {
+    for (const ClassId c : queries_[k].classes) {
+      if (c != kNoClass && std::find(prompts_.begin(), prompts_.end(), c) == prompts_.end()) prompts_.push_back(c);
+    }
+  }
+}
+
 }  // namespace artemis::semantics

@@ -5,6 +5,7 @@
 // its temporary file (.NAME.tmp-PID-N); the next write of the same target removes it.
 
 #include <cstddef>
+#include <cstdio>
 #include <filesystem>
 #include <optional>
 #include <span>
@@ -14,7 +15,31 @@
 
 namespace artemis::io {
 
+// A file written under a temporary name next to its target and renamed into place by commit().
+// A file written in parts, as it
+// is made (a checkpoint streamed through a buffer). Destroyed without a successful commit(), it removes the temporary
+// file: the target is never left half-written, and an existing target stays as it was.
+class AtomicFile {
+ public:
+  AtomicFile() = default;
+  ~AtomicFile();
+  AtomicFile(const AtomicFile&) = delete;
+  AtomicFile& operator=(const AtomicFile&) = delete;
+
+  Status open(const std::filesystem::path& target);
+  Status write(const void* data, std::size_t size);
+  Status commit();
+
+ private:
+  Status writeError();
+  std::filesystem::path target_;
+  std::filesystem::path temp_;
+  std::FILE* file_ = nullptr;
+};
+
 Status writeFileAtomic(const std::filesystem::path& path, std::span<const std::byte> bytes);
+// The same for a file made of `parts`, one after the other (no copy into one buffer first).
+Status writeFileAtomic(const std::filesystem::path& path, std::span<const std::span<const std::byte>> parts);
 
 // Whether the process `pid` is running; this process always is. Files named after a process
 // (temporary files, staging folders) may be removed once it is gone.

@@ -41,6 +41,8 @@ inline constexpr FileLimit kImage{256 * kMiB, "an image"};
 inline constexpr FileLimit kMesh{std::uint64_t{16} << 30, "a mesh or point cloud"};
 // Network weights (read by the backend's own loader after this check).
 inline constexpr FileLimit kModel{std::uint64_t{4} << 30, "a model file"};
+// A run's checkpoint: its map, mesh and waiting views; a long drive's is a few GB.
+inline constexpr FileLimit kCheckpoint{std::uint64_t{64} << 30, "a checkpoint"};
 }  // namespace limits
 
 // Size of a regular file within `limit`, after the checks above; the error otherwise.

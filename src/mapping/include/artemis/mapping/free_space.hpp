@@ -54,6 +54,11 @@
 #include "artemis/mapping/incremental_mesher.hpp"
 #include "artemis/mapping/voxel_map.hpp"
 
+namespace artemis {
+class ArchiveWriter;
+class ArchiveReader;
+}  // namespace artemis
+
 namespace artemis::mapping {
 
 namespace detail {
@@ -107,6 +112,10 @@ class FreeSpaceCarver {
 
   [[nodiscard]] const FreeSpaceParams& params() const { return params_; }
 
+  // Checkpoints (mapping/checkpoint.cpp): the earlier sweeps' rays.
+  void save(ArchiveWriter& out) const;
+  void load(ArchiveReader& in);
+
  private:
   // A scan's rays and the pose they were taken at (world to sensor).
   struct Sweep {
@@ -117,6 +126,8 @@ class FreeSpaceCarver {
   // Which points of a voxel a sweep tests: the old ones (not hit by this frame, not yet confirmed),
   // against this frame's rays; or the ones this frame created, against an earlier frame's rays.
   enum class Tested { kOld, kNew };
+  // An empty range image with the carver's bins.
+  static std::unique_ptr<detail::RangeImage> newSweepImage();
   using Flags = std::unordered_map<std::uint32_t, std::vector<std::uint8_t>>;  // voxel -> per point: remove
 
   // Flags the points in the vehicle's box at T_W_L; returns how many.

@@ -19,6 +19,11 @@
 #include "artemis/mapping/swept_volume.hpp"
 #include "artemis/mapping/voxel_map.hpp"
 
+namespace artemis {
+class ArchiveWriter;
+class ArchiveReader;
+}  // namespace artemis
+
 namespace artemis::mapping {
 
 struct MapperParams {
@@ -98,6 +103,12 @@ class Mapper {
   [[nodiscard]] const SemanticMesh& mesh() const { return mesh_; }
   [[nodiscard]] const VoxelMap& voxels() const { return map_; }
   [[nodiscard]] const MapperParams& params() const { return params_; }
+
+  // Checkpoints (mapping/checkpoint.cpp): the map, mesh and free-space state between two frames, so
+  // that a mapper made with the same params and loaded goes on exactly as this one would. Not
+  // after finish().
+  void save(ArchiveWriter& out) const;
+  void load(ArchiveReader& in);
 
  private:
   // Drops the faces that use points the carver removed, from the voxels that lost them and their

@@ -30,6 +30,11 @@
 #include "artemis/mapping/voxel_key.hpp"
 #include "artemis/semantics/vocabulary.hpp"
 
+namespace artemis {
+class ArchiveWriter;
+class ArchiveReader;
+}  // namespace artemis
+
 namespace artemis::mapping {
 
 using Face = std::array<std::uint32_t, 3>;
@@ -138,6 +143,12 @@ class SemanticMesh {
     std::vector<Face> faces;                // indices into vertex_ids
   };
   [[nodiscard]] Compact compact() const;
+
+  // Checkpoints (mapping/checkpoint.cpp): every vertex, face and weight; load() into an empty mesh
+  // with the same voxel prior and stage-one weight (set from the same params). After load() the
+  // change log lists every voxel with faces.
+  void save(ArchiveWriter& out) const;
+  void load(ArchiveReader& in);
 
  private:
   static constexpr std::size_t kVertexRoom = std::size_t{1} << 22;

@@ -18,6 +18,11 @@
 
 #include "artemis/core/transform.hpp"
 
+namespace artemis {
+class ArchiveWriter;
+class ArchiveReader;
+}  // namespace artemis
+
 namespace artemis::mapping {
 
 class SweptVolume {
@@ -34,6 +39,10 @@ class SweptVolume {
   void focus(const Eigen::Vector3f& centre_W, float radius);
   // Whether world point p lies in the box at any added pose. Thread-safe between focus() calls.
   [[nodiscard]] bool contains(const Eigen::Vector3f& p_W) const;
+
+  // Checkpoints (mapping/checkpoint.cpp): the poses so far (focus() is called again each frame).
+  void save(ArchiveWriter& out) const;
+  void load(ArchiveReader& in);
   [[nodiscard]] std::size_t poses() const { return poses_.size(); }
 
  private:

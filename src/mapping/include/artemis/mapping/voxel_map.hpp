@@ -17,6 +17,11 @@
 #include "artemis/mapping/semantic_mesh.hpp"
 #include "artemis/mapping/voxel_key.hpp"
 
+namespace artemis {
+class ArchiveWriter;
+class ArchiveReader;
+}  // namespace artemis
+
 namespace artemis::mapping {
 
 struct VoxelMapParams {
@@ -103,6 +108,11 @@ class VoxelMap {
     std::vector<std::uint32_t> voxels;
   };
   [[nodiscard]] const std::vector<Block>& blocks() const { return blocks_; }
+
+  // Checkpoints (mapping/checkpoint.cpp): the whole map, its per-frame scratch aside; load() into a
+  // map made with the same params (checked).
+  void save(ArchiveWriter& out) const;
+  void load(ArchiveReader& in);
 
  private:
   // Open addressing with linear probing over a power-of-two table of indices into voxels_: the

@@ -14,9 +14,11 @@
 //   <out>/config.json     the effective settings (given by the caller)
 //   <out>/timing.json     {"frames": N, "stages": {"<stage>": {"median_ms", "p95_ms", "max_ms"}, ...,
 //                          "total": {...}}, "finish_ms", "peak_rss_mb", "frames_failed", "points_in_vehicle_path",
-//                          "points_carved", "holes_filled"}
+//                          "points_carved", "holes_filled", "checkpoints": {"written", "last_mb", "max_ms",
+//                          "resumed_at_frame"}}
 // Every file is written atomically.
 
+#include <atomic>
 #include <filesystem>
 #include <functional>
 #include <string>
@@ -103,6 +105,21 @@ struct RunParams {
   // vertices every waiting view has been offered (up to scan i - texture_delay) measured 21.09 dB.
   int texture_revisit = 60;
   FrameObserver observer;  // optional
+  // Checkpoints: after every checkpoint_every-th frame of the range (0: never), and when stopped,
+  // the run's whole state goes to <out>/checkpoint.bin (atomically: a run killed while writing
+  // keeps the one before); the finished run removes it. About the size of the map in memory plus
+  // the views stage 2 holds (their images are read again on resume).
+  int checkpoint_every = 100;
+  // Written to <out>/checkpoint.json beside each checkpoint (nothing when empty): what the caller
+  // needs to start the run again (the CLI: its flags and working folder).
+  std::string resume_record_json;
+  // Go on from <out>/checkpoint.bin, written by a run of the same recording with the same settings
+  // (config_json must match), rather than from the range's first frame. The outputs then equal those
+  // of a run that was never stopped.
+  bool resume = false;
+  // When set (by a signal handler, say), the run stops after the frame it is mapping, writes a
+  // checkpoint and returns an error saying where it stopped and how to go on.
+  const std::atomic<bool>* stop_requested = nullptr;
 };
 
 struct RunReport {
@@ -137,6 +154,12 @@ struct RunReport {
   std::vector<std::size_t> held_out_frames;  // recording indices left out of texturing
   std::size_t frames_textured = 0;           // stage 2 updated colours from the frame's image
   std::size_t frames_semantic_refined = 0;   // stage 2 updated classes from the frame's masks
+  // Checkpoints written by this process, their last size and slowest write; the range frame this
+  // process resumed at (0: it started at the first).
+  std::size_t checkpoints = 0;
+  double checkpoint_mb = 0.0;
+  double checkpoint_max_ms = 0.0;
+  std::size_t resumed_at = 0;
 };
 
 using ProgressFn = std::function<void(std::size_t done, std::size_t total)>;

@@ -6,6 +6,11 @@
 #include <string>
 #include <vector>
 
+namespace artemis {
+class ArchiveWriter;
+class ArchiveReader;
+}  // namespace artemis
+
 namespace artemis::pipeline {
 
 struct StageSummary {
@@ -22,6 +27,10 @@ class StageTimes {
   // Over frames [begin, end) of the stage's samples (all by default).
   [[nodiscard]] StageSummary summary(const std::string& stage, std::size_t begin = 0,
                                      std::size_t end = static_cast<std::size_t>(-1)) const;
+
+  // Checkpoints (stage_checkpoint.cpp): every sample so far.
+  void save(ArchiveWriter& out) const;
+  void load(ArchiveReader& in);
 
  private:
   std::map<std::string, std::vector<double>> samples_;

@@ -18,6 +18,11 @@
 
 #include <Eigen/Core>
 
+namespace artemis {
+class ArchiveWriter;
+class ArchiveReader;
+}  // namespace artemis
+
 namespace artemis::registration {
 
 struct LocalMapParams {
@@ -56,6 +61,10 @@ class LocalMap {
   [[nodiscard]] const LocalMapParams& params() const { return params_; }
   // Every point and its normal (zero where not valid), in no particular order: for tests and dumps.
   void points(std::vector<Eigen::Vector3f>& points, std::vector<Eigen::Vector3f>& normals) const;
+
+  // Checkpoints (registration/checkpoint.cpp): the whole map; load() into one with the same params.
+  void save(ArchiveWriter& out) const;
+  void load(ArchiveReader& in);
 
  private:
   struct Key {

@@ -24,6 +24,11 @@
 #include "artemis/registration/icp.hpp"
 #include "artemis/registration/local_map.hpp"
 
+namespace artemis {
+class ArchiveWriter;
+class ArchiveReader;
+}  // namespace artemis
+
 namespace artemis::registration {
 
 struct OdometryParams {
@@ -78,6 +83,11 @@ class Odometry {
   [[nodiscard]] const OdometryParams& params() const { return params_; }
   // The first-stage distance the next scan would get.
   [[nodiscard]] double adaptiveDistance() const;
+
+  // Checkpoints (registration/checkpoint.cpp): the local map, the last pose, the motion model and the
+  // adaptive threshold's statistics; load() into an odometry made with the same params.
+  void save(ArchiveWriter& out) const;
+  void load(ArchiveReader& in);
 
  private:
   OdometryParams params_;

@@ -28,6 +28,12 @@ class ActiveBrush {
   std::vector<ClassId> beginFrame(std::size_t frame);
   [[nodiscard]] std::vector<ClassId> prompts() const;
   [[nodiscard]] std::vector<QueryRecord> history() const;
+  // Queries applied so far (the first ones of history()).
+  [[nodiscard]] std::size_t applied() const;
+  // A resumed run's brush: the history of the run it goes on with (its command line's queries and
+  // any added live), of which the first `applied` were applied (their classes prompted, in order);
+  // it replaces whatever this brush held.
+  void restore(std::vector<QueryRecord> history, std::size_t applied);
 
  private:
   mutable std::mutex mutex_;
