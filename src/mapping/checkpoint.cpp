@@ -270,6 +270,12 @@ void RangeImage::load(ArchiveReader& in) {
        (offsets_.size() != cells + 1 || farthest_.size() != cells || offsets_.back() != directions.size()))) {
     in.fail("a sweep's rays do not match its bins");
   }
+  for (std::size_t b = 0; b + 1 < offsets_.size(); ++b) {
+    if (offsets_[b] > offsets_[b + 1]) in.fail("a sweep's bins are out of order");
+  }
+  for (const std::uint32_t bin : bins) {
+    if (bin >= cells) in.fail("a sweep's ray lies in a bin it does not have");
+  }
   returns_.resize(directions.size());
   for (std::size_t k = 0; k < returns_.size(); ++k) returns_[k] = {directions[k], ranges[k], bins[k]};
   grazing_capacity_ = returns_.size();
