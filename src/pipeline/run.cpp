@@ -96,7 +96,6 @@ class Run {
 
   [[nodiscard]] const mapping::Mapper& mapper() const { return mapper_; }
   [[nodiscard]] const std::string& trajectory() const { return poses_.trajectory(); }
-  [[nodiscard]] const semantics::ActiveBrush* brush() const { return params_.semantics.brush; }
   [[nodiscard]] const RunParams& params() const { return params_; }
 
  private:
@@ -263,7 +262,7 @@ Status saveCheckpoint(Run& run, std::size_t next, const registration::Odometry* 
   ++report.checkpoints;  // counted in the state it writes: a resumed run reports them all
   auto size = writeCheckpoint(out / kCheckpointFile, config_json, [&](ArchiveWriter& state) {
     state.value(static_cast<std::uint64_t>(next));
-    saveBrush(state, run.brush());
+    saveBrush(state, run.params().semantics.brush);
     state.value(static_cast<std::uint8_t>(odometry != nullptr));
     if (odometry != nullptr) odometry->save(state);
     run.save(state);
