@@ -6,6 +6,7 @@
 #include <fmt/format.h>
 #include <CLI/CLI.hpp>
 
+#include <array>
 #include <filesystem>
 #include <memory>
 #include <nlohmann/json.hpp>
@@ -16,6 +17,7 @@
 #include "artemis/datasets/pose_file.hpp"
 #include "artemis/eval/ray_consistency.hpp"
 #include "artemis/io/file.hpp"
+#include "artemis/io/ply.hpp"
 #include "commands.hpp"
 #include "flag_checks.hpp"
 #include "progress.hpp"
@@ -35,7 +37,40 @@ struct RayEvalFlags {
   double min_range_m = 2.0;
   double max_range_m = 70.0;
   eval::RayConsistencyParams params;
-  std::string json;  // empty: RUN/rays.json
+  std::string json;    // empty: RUN/rays.json
+  std::string points;  // empty: none; else a PLY of the cast returns coloured by verdict
+};
+
+// The cast returns as a coloured point cloud, to see where the mesh disagrees with its scans:
+// surface grey, blocked red, hole blue, and each blocked ray's first hit (what stands in the way)
+// yellow. Property "verdict": 0 surface, 1 blocked, 2 hole, 3 blocking hit.
+class VerdictCloud {
+ public:
+  void add(const Eigen::Vector3f& origin_W, const Eigen::Vector3f& return_W, const eval::RayVerdict& v) {
+    push(return_W, static_cast<std::uint8_t>(v.kind));
+    if (v.kind == eval::RayClass::kBlocked) {
+      push(origin_W + (return_W - origin_W).normalized() * v.hit_m, 3);
+    }
+  }
+  [[nodiscard]] Status write(const fs::path& path) const {
+    static constexpr std::array<std::array<std::uint8_t, 3>, 4> kColours = {
+        {{170, 170, 170}, {230, 40, 40}, {40, 90, 230}, {250, 210, 0}}};
+    std::vector<std::uint8_t> rgb;
+    rgb.reserve(3 * verdicts_.size());
+    for (const std::uint8_t v : verdicts_) rgb.insert(rgb.end(), kColours[v].begin(), kColours[v].end());
+    io::PlyData ply = io::makePlyMesh({.xyz = &xyz_, .rgb = &rgb});
+    ply.comments.push_back("artemis eval rays: verdict 0 surface, 1 blocked, 2 hole, 3 hit that blocked a ray");
+    if (Status s = ply.setScalar("vertex", "verdict", verdicts_); !s.isOk()) return s;
+    return io::writePly(path, ply);
+  }
+
+ private:
+  void push(const Eigen::Vector3f& p, std::uint8_t verdict) {
+    xyz_.insert(xyz_.end(), {p.x(), p.y(), p.z()});
+    verdicts_.push_back(verdict);
+  }
+  std::vector<float> xyz_;
+  std::vector<std::uint8_t> verdicts_;
 };
 
 // The run's recording over its frame range, gated by the flags' range, with its poses.
@@ -118,8 +153,9 @@ Json settingsJson(const RayEvalFlags& flags, const RunDataset& scans) {
 }
 
 // Casts the frames' subsampled returns; per-frame figures go into `frames_json`.
+// With a `cloud`, each ray's verdict is added to it too.
 Result<eval::RayTally> castFrames(const RunDataset& scans, const eval::RayConsistency& rays, const RayEvalFlags& flags,
-                                  Json& frames_json, std::size_t& frames_cast) {
+                                  Json& frames_json, std::size_t& frames_cast, VerdictCloud* cloud) {
   const datasets::Dataset& d = *scans.dataset;
   eval::RayTally total;
   ProgressLine progress("casting", "frames");
@@ -132,6 +168,10 @@ Result<eval::RayTally> castFrames(const RunDataset& scans, const eval::RayConsis
     returns_W.reserve(picked.size());
     for (const std::size_t k : picked) returns_W.push_back(T_W_L * frame->points_L.points[k]);
     const eval::RayTally tally = rays.classifyFrame(T_W_L.translation(), returns_W);
+    if (cloud != nullptr) {
+      for (const Eigen::Vector3f& r : returns_W)
+        cloud->add(T_W_L.translation(), r, rays.classify(T_W_L.translation(), r));
+    }
     frames_json.push_back({{"frame", frame->index},
                            {"shares", sharesJson(tally.all)},
                            {"counts", countsJson(tally.all)},
@@ -173,8 +213,13 @@ int runRayEval(const RayEvalFlags& flags) {
 
   Json frames = Json::array();
   std::size_t frames_cast = 0;
-  auto tally = castFrames(*scans, *rays, flags, frames, frames_cast);
+  VerdictCloud cloud;
+  auto tally = castFrames(*scans, *rays, flags, frames, frames_cast, flags.points.empty() ? nullptr : &cloud);
   if (!tally) return fail(tally.status());
+  if (!flags.points.empty()) {
+    if (Status s = cloud.write(flags.points); !s.isOk()) return fail(s);
+    log::info("the cast returns, coloured by verdict, written to {}", flags.points);
+  }
   const double seconds = clock.elapsedS();
   printTable(*tally, frames_cast, flags);
 
@@ -230,6 +275,9 @@ void addEvalRaysCommand(CLI::App& eval, int& exit_code) {
       ->capture_default_str()
       ->check(within(0.0, 100.0));
   cmd->add_option("--json", flags->json, "Where to write the figures (default: RUN/rays.json)");
+  cmd->add_option("--points", flags->points,
+                  "Also write the cast returns as a PLY cloud coloured by verdict (surface grey, blocked red, hole "
+                  "blue, the hit that blocked a ray yellow; property 'verdict' 0-3)");
   cmd->callback([flags, &exit_code] { exit_code = runRayEval(*flags); });
 }
 

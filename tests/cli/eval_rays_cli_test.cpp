@@ -6,6 +6,8 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cmath>
 #include <filesystem>
 #include <fstream>
 #include <nlohmann/json.hpp>
@@ -108,8 +110,33 @@ TEST_F(CliEvalRays, TruthIsSurfaceAndLiftedTruthBlocksTheRoad) {
   ASSERT_TRUE(ply->setScalar<float>("vertex", "z", *z).isOk());
   ASSERT_TRUE(io::writePly(*tmp_ / "lifted.ply", *ply).isOk());
   const fs::path lifted = runWithMesh("lifted", *tmp_ / "lifted.ply");
-  ASSERT_EQ(test::runCli("eval rays " + lifted.string() + " --every 1 --returns 2000").exit_code, 0);
+  const fs::path cloud = *tmp_ / "lifted_rays.ply";
+  ASSERT_EQ(
+      test::runCli("eval rays " + lifted.string() + " --every 1 --returns 2000 --points " + cloud.string()).exit_code,
+      0);
   const auto k = readJson(lifted / "rays.json");
+  // --points: every cast return with its verdict, plus the hit in front of each blocked one.
+  auto rays = io::readPly(cloud);
+  ASSERT_TRUE(rays.isOk()) << rays.status().toString();
+  const auto verdict = rays->scalarAs<int>("vertex", "verdict");
+  ASSERT_TRUE(verdict.isOk()) << verdict.status().toString();
+  const auto blocked = k["counts"]["blocked"].get<std::size_t>();
+  ASSERT_EQ(verdict->size(), 6000 + blocked);
+  EXPECT_EQ(static_cast<std::size_t>(std::count(verdict->begin(), verdict->end(), 1)), blocked);
+  EXPECT_EQ(static_cast<std::size_t>(std::count(verdict->begin(), verdict->end(), 3)), blocked);
+  EXPECT_EQ(static_cast<std::size_t>(std::count(verdict->begin(), verdict->end(), 0)),
+            k["counts"]["surface"].get<std::size_t>());
+  // Each blocking hit follows its return; on the lifted road it lies 0.5 m above the road return
+  // (most blocked returns are the road's; walls' feet and slopes make the rest, 74 % here).
+  const auto rz = rays->scalarAs<float>("vertex", "z");
+  ASSERT_TRUE(rz.isOk());
+  std::size_t half_metre_up = 0;
+  for (std::size_t i = 1; i < verdict->size(); ++i) {
+    if ((*verdict)[i] != 3) continue;
+    ASSERT_EQ((*verdict)[i - 1], 1) << "hit " << i << " does not follow a blocked return";
+    half_metre_up += std::abs((*rz)[i] - (*rz)[i - 1] - 0.5F) < 0.05F ? 1 : 0;
+  }
+  EXPECT_GT(static_cast<double>(half_metre_up), 0.6 * static_cast<double>(blocked));
   EXPECT_GT(k["ground_returns"]["shares"]["blocked"].get<double>(), 0.9);
   EXPECT_GT(k["blocked"]["ground_share"].get<double>(), 0.8);
   EXPECT_GT(k["blocked"]["horizontal_face_share"].get<double>(), 0.8);
