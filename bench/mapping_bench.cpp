@@ -13,6 +13,7 @@
 #include <filesystem>
 #include <string>
 
+#include "artemis/core/allocator.hpp"
 #include "artemis/core/timer.hpp"
 #include "artemis/datasets/dataset.hpp"
 #include "artemis/datasets/dataset_summary.hpp"
@@ -45,6 +46,7 @@ Result<eval::MeshArrays> meshOf(const fs::path& ply) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  artemis::useTunedAllocator(argv);  // as the artemis program runs (core/allocator.hpp)
   bool poisson = true;
   int threads = 0;
   for (int i = 1; i < argc; ++i) {

@@ -19,6 +19,7 @@
 #include <string>
 #include <vector>
 
+#include "artemis/core/allocator.hpp"
 #include "artemis/core/timer.hpp"
 #include "artemis/mapping/mapper.hpp"
 #include "artemis/pipeline/run.hpp"
@@ -28,6 +29,7 @@
 #include "sim_frames.hpp"
 
 int main(int argc, char** argv) {
+  artemis::useTunedAllocator(argv);  // as the artemis program runs (core/allocator.hpp)
   using namespace artemis;
   int frames = 200;
   int threads = 0;

@@ -17,6 +17,7 @@
 #include <string>
 #include <vector>
 
+#include "artemis/core/allocator.hpp"
 #include "artemis/core/timer.hpp"
 #include "artemis/datasets/dataset.hpp"
 #include "artemis/datasets/pose_file.hpp"
@@ -129,6 +130,7 @@ void run(const std::string& name, const Recording& rec, bool use_prior, bool des
 }  // namespace
 
 int main(int argc, char** argv) {
+  artemis::useTunedAllocator(argv);  // as the artemis program runs (core/allocator.hpp)
   registration::OdometryParams params;
   std::string runs = "oxts,none,deskew,vertical";
   for (int i = 1; i + 1 < argc; i += 2) {

@@ -9,12 +9,14 @@
 #include <cstring>
 #include <vector>
 
+#include "artemis/core/allocator.hpp"
 #include "artemis/core/timer.hpp"
 #include "artemis/render/rasterizer.hpp"
 #include "artemis/sim/simulator.hpp"
 #include "bench_stats.hpp"
 
 int main(int argc, char** argv) {
+  artemis::useTunedAllocator(argv);  // as the artemis program runs (core/allocator.hpp)
   using namespace artemis;
   int frames = 100;
   if (argc == 3 && std::strcmp(argv[1], "--frames") == 0) frames = std::atoi(argv[2]);

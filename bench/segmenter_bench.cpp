@@ -18,6 +18,7 @@
 #include <string>
 #include <vector>
 
+#include "artemis/core/allocator.hpp"
 #include "artemis/core/timer.hpp"
 #include "artemis/datasets/dataset.hpp"
 #include "artemis/datasets/pose_file.hpp"
@@ -155,6 +156,7 @@ int pipelineCost(const fs::path& data, const fs::path& model, int threads) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  artemis::useTunedAllocator(argv);  // as the artemis program runs (core/allocator.hpp)
   int threads = 2;
   int width = 0;
   int frames = 20;

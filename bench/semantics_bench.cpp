@@ -16,6 +16,7 @@
 #include <string>
 #include <vector>
 
+#include "artemis/core/allocator.hpp"
 #include "artemis/core/timer.hpp"
 #include "artemis/mapping/mapper.hpp"
 #include "artemis/semantics/query_grounder.hpp"
@@ -70,6 +71,7 @@ void groundingTimes() {
 }  // namespace
 
 int main(int argc, char** argv) {
+  artemis::useTunedAllocator(argv);  // as the artemis program runs (core/allocator.hpp)
   int frames = 200;
   int threads = 0;
   std::string noise_name = "standard";

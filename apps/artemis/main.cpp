@@ -5,6 +5,7 @@
 #include <cstdio>
 #include <exception>
 
+#include "artemis/core/allocator.hpp"
 #include "artemis/core/log.hpp"
 #include "commands.hpp"
 
@@ -63,6 +64,7 @@ int run(int argc, char** argv) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  artemis::useTunedAllocator(argv);  // may start this program again, tuned (core/allocator.hpp)
   // Anything thrown outside the parse (setting up the commands, reporting an error) ends here
   // with a message and a non-zero exit code rather than in std::terminate.
   try {

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "artemis/core/allocator.hpp"
 #include "artemis/core/colour.hpp"
 #include "artemis/core/log.hpp"
 #include "artemis/io/file.hpp"
@@ -118,6 +119,7 @@ std::string timingJson(const RunReport& report) {
   j["stages"] = stages;
   j["finish_ms"] = report.finish_ms;
   j["peak_rss_mb"] = report.peak_rss_mb;
+  j["allocator"] = allocatorTuned() ? "glibc, tuned" : "system";  // see core/allocator.hpp
   j["frames_failed"] = report.frames_failed;
   j["points_in_vehicle_path"] = report.points_in_vehicle_path;
   j["points_carved"] = report.points_carved;

@@ -4,6 +4,7 @@
 // settings are refused with a message saying which.
 #include <gtest/gtest.h>
 #include <signal.h>
+#include <stdlib.h>
 #include <sys/wait.h>
 #include <unistd.h>
 
@@ -28,6 +29,14 @@ namespace fs = std::filesystem;
 // registration.json hold times).
 const std::vector<std::string> kSameFiles = {"mesh.ply", "mesh_classes.ply", "trajectory.txt", "semantics.json",
                                              "config.json"};
+
+// What timing.json names as the allocator of a run started plainly: the tuned glibc malloc,
+// except in sanitizer builds, whose allocator replaces malloc.
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+constexpr const char* kTunedAllocator = "system";
+#else
+constexpr const char* kTunedAllocator = "glibc, tuned";
+#endif
 
 // A short simulated street with moving traffic, and its uninterrupted run (with semantics, texture,
 // free space: every stage that carries state from frame to frame).
@@ -152,9 +161,15 @@ TEST_F(CliResume, StoppedWithCtrlCItRefusesForeignCheckpointsAndResumes) {
   EXPECT_EQ(nothing.exit_code, 1);
   EXPECT_NE(nothing.err.find("holds no run that can be resumed"), std::string::npos) << nothing.err;
 
+  // Resumed with glibc's default allocator settings (core/allocator.hpp): the same files, as
+  // the allocator changes no result; timing.json says which ran.
+  ::setenv("ARTEMIS_ALLOCATOR", "system", 1);
   const auto resumed = test::runCli("run --resume " + out.string());
+  ::unsetenv("ARTEMIS_ALLOCATOR");
   ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
   expectSameAsWhole(out);
+  EXPECT_EQ(test::readJson(out / "timing.json")["allocator"], "system");
+  EXPECT_EQ(test::readJson(whole() / "timing.json")["allocator"], kTunedAllocator);
 }
 
 }  // namespace

@@ -1,0 +1,78 @@
+#include "artemis/core/allocator.hpp"
+
+#include <unistd.h>
+
+#include <array>
+#include <cstdlib>
+#include <string_view>
+
+namespace artemis {
+
+namespace {
+
+constexpr std::array<std::string_view, 3> kTunables = {"glibc.malloc.hugetlb=1", "glibc.malloc.mmap_threshold=33554432",
+                                                       "glibc.malloc.trim_threshold=4294967296"};
+
+// The tunable's name: what precedes '='.
+std::string_view nameOf(std::string_view tunable) {
+  return tunable.substr(0, tunable.find('='));
+}
+
+bool sanitized() {
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+  return true;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer) || __has_feature(memory_sanitizer)
+  return true;
+#else
+  return false;
+#endif
+#else
+  return false;
+#endif
+}
+
+}  // namespace
+
+std::optional<std::string> tunedGlibcTunables(const char* current) {
+  const std::string_view now = current != nullptr ? current : "";
+  for (const std::string_view t : kTunables) {
+    if (now.find(nameOf(t)) != std::string_view::npos) return std::nullopt;
+  }
+  std::string out(now);
+  for (const std::string_view t : kTunables) {
+    if (!out.empty()) out += ':';
+    out += t;
+  }
+  return out;
+}
+
+bool allocatorTuned() {
+  const char* now = std::getenv("GLIBC_TUNABLES");  // NOLINT(concurrency-mt-unsafe): read-only use
+  return now != nullptr && std::string_view(now).find(kTunables[0]) != std::string_view::npos;
+}
+
+void useTunedAllocator(char** argv) {
+#ifdef __GLIBC__
+  if (sanitized() || argv == nullptr || argv[0] == nullptr) return;
+  const char* choice = std::getenv("ARTEMIS_ALLOCATOR");  // NOLINT(concurrency-mt-unsafe): before any thread
+  if (choice != nullptr && std::string_view(choice) == "system") return;
+  const char* before = std::getenv("GLIBC_TUNABLES");  // NOLINT(concurrency-mt-unsafe)
+  const auto tunables = tunedGlibcTunables(before);
+  if (!tunables) return;
+  const std::optional<std::string> saved = before != nullptr ? std::optional<std::string>(before) : std::nullopt;
+  if (::setenv("GLIBC_TUNABLES", tunables->c_str(), 1) != 0) return;  // NOLINT(concurrency-mt-unsafe)
+  ::execv("/proc/self/exe", argv);
+  // Still here: the re-execution failed (no /proc, say). Run untuned, with the environment as it
+  // was, so that allocatorTuned() tells the truth.
+  if (saved) {
+    ::setenv("GLIBC_TUNABLES", saved->c_str(), 1);  // NOLINT(concurrency-mt-unsafe)
+  } else {
+    ::unsetenv("GLIBC_TUNABLES");  // NOLINT(concurrency-mt-unsafe)
+  }
+#else
+  (void)argv;
+#endif
+}
+
+}  // namespace artemis

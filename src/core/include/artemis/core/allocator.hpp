@@ -1,0 +1,36 @@
+#pragma once
+// The memory allocator's settings for a mapping process. A mapper touches fresh memory every frame:
+// the map grows by megabytes, and per-frame buffers (rendered depth, solver arrays) of megabytes
+// are made and freed. With glibc's defaults, buffers above 128 KiB to 32 MiB are mapped from the
+// kernel and unmapped again on free, and the heap is trimmed back: each frame faults its buffers
+// in anew, page by page. A page fault costs 0.1-0.3 us on bare metal but about 15 us in some
+// virtual machines (measured here: 14.5 us a 4 KiB page), where KITTI frames took 17 ms more for it.
+//
+// So `artemis` and the benchmarks start with three glibc malloc tunables (GLIBC_TUNABLES, read by
+// glibc only at process start, hence a re-execution of the same program with the same arguments
+// and process id):
+//   glibc.malloc.hugetlb=1            transparent huge pages for the heap (one fault per 2 MiB
+//                                     where the system allows them on request, "madvise");
+//   glibc.malloc.mmap_threshold=32 MiB  buffers up to 32 MiB come from the heap, not the kernel;
+//   glibc.malloc.trim_threshold=4 GiB   freed memory stays in the heap for the next frame.
+// Peak memory grows by about a tenth (whole huge pages). ARTEMIS_ALLOCATOR=system keeps glibc's
+// defaults; GLIBC_TUNABLES that already set any of these are left as they are.
+
+#include <optional>
+#include <string>
+
+namespace artemis {
+
+// The GLIBC_TUNABLES value to run with, given the current one (null: unset), or nullopt when it
+// already sets one of the three tunables (the user's choice stands).
+std::optional<std::string> tunedGlibcTunables(const char* current);
+
+// Re-executes this program with the tunables above when it runs on glibc without them, unless
+// ARTEMIS_ALLOCATOR=system or a sanitizer (which replaces malloc) is built in. Returns when it
+// does not re-execute (also when the re-execution fails: the program then runs untuned).
+void useTunedAllocator(char** argv);
+
+// Whether this process runs with the tunables (for logs and timing reports).
+bool allocatorTuned();
+
+}  // namespace artemis
