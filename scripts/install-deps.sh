@@ -16,10 +16,14 @@ packages=(
   nlohmann-json3-dev libcpp-httplib-dev wordnet-dev wordnet-base
   # the dense segmenter: OpenCV's dnn and imgproc modules only (not the full libopencv-dev)
   libopencv-dnn-dev libopencv-imgproc-dev
+  # ROS 1 bags without ROS: Debian's rosbag_storage library (bz2 and lz4 chunks)
+  librosbag-storage-dev
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev
-  # interoperability checks (tests load our files with Open3D)
+  # interoperability checks (tests load our files with Open3D, and write ROS bags with Debian's
+  # own rosbag Python package)
   python3 python3-numpy python3-open3d
+  python3-rosbag python3-sensor-msgs python3-geometry-msgs python3-nav-msgs python3-tf2-msgs
   # the browser viewer: Node.js installs three.js and the test tools from npm; the browser tests
   # drive Debian's Chromium
   nodejs chromium

@@ -13,7 +13,9 @@
 #include "artemis/datasets/dataset_summary.hpp"
 #include "artemis/datasets/kitti_boxes.hpp"
 #include "artemis/datasets/kitti_raw.hpp"
+#include "artemis/datasets/rosbag_file.hpp"
 #include "artemis/io/ply.hpp"
+#include "bag_info.hpp"
 #include "box_exclusion.hpp"
 #include "commands.hpp"
 #include "dataset_flags.hpp"
@@ -25,6 +27,7 @@ namespace {
 
 struct InfoFlags {
   DatasetFlags dataset;
+  datasets::BagTopicRequest topics;  // a ROS bag's
   bool json = false;
 };
 
@@ -78,6 +81,9 @@ void printSummary(const datasets::DatasetSummary& s) {
 }
 
 int runInfo(const InfoFlags& flags) {
+  if (datasets::isBagFile(flags.dataset.path) || std::filesystem::path(flags.dataset.path).extension() == ".bag") {
+    return runBagInfo(flags.dataset.path, flags.topics, flags.json);
+  }
   auto dataset = flags.dataset.open(/*load_images=*/true);
   if (!dataset) {
     log::error("{}", dataset.status().message());
@@ -236,8 +242,11 @@ void addDatasetCommands(CLI::App& app, int& exit_code) {
 
   auto info_flags = std::make_shared<InfoFlags>();
   auto* info = dataset->add_subcommand(
-      "info", "Format, frames, points per frame, image size, path length and the share of points in the image");
+      "info",
+      "Format, frames, points per frame, image size, path length and the share of points in the image; for a ROS 1 "
+      "bag, its topics (types, counts, rates), duration, and which topics a run reads and why");
   info_flags->dataset.addTo(*info, /*with_poses=*/true);
+  addBagTopicFlags(*info, info_flags->topics);
   info->add_flag("--json", info_flags->json, "Print one JSON object instead of a table");
   info->callback([info_flags, &exit_code] { exit_code = runInfo(*info_flags); });
 
