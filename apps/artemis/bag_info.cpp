@@ -63,15 +63,6 @@ void printTable(const datasets::BagSummary& bag, const datasets::BagTopicChoice&
 
 }  // namespace
 
-void addBagTopicFlags(CLI::App& app, datasets::BagTopicRequest& request) {
-  app.add_option("--lidar-topic", request.lidar,
-                 "ROS bag: the LiDAR topic (sensor_msgs/PointCloud2 or Livox CustomMsg), when the bag has several");
-  app.add_option("--image-topic", request.image,
-                 "ROS bag: the camera topic (sensor_msgs/Image or CompressedImage), when the bag has several");
-  app.add_option("--imu-topic", request.imu, "ROS bag: the sensor_msgs/Imu topic, when the bag has several");
-  app.add_option("--odom-topic", request.odometry, "ROS bag: the nav_msgs/Odometry topic, when the bag has several");
-}
-
 int runBagInfo(const std::string& bag, const datasets::BagTopicRequest& request, bool json) {
   auto summary = datasets::readBagSummary(bag);
   if (!summary) return fail(summary.status());

@@ -2,16 +2,11 @@
 // artemis dataset info FILE.bag: what a ROS 1 bag holds (topics, message types, counts, rates,
 // duration) and which topics a run would read, and why.
 
-#include <CLI/CLI.hpp>
-
 #include <string>
 
 #include "artemis/datasets/bag_topics.hpp"
 
 namespace artemis::cli {
-
-// --lidar-topic, --image-topic, --imu-topic, --odom-topic.
-void addBagTopicFlags(CLI::App& app, datasets::BagTopicRequest& request);
 
 // Prints the bag's summary (a table, or one JSON object); returns the exit code.
 int runBagInfo(const std::string& bag, const datasets::BagTopicRequest& request, bool json);

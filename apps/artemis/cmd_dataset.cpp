@@ -27,7 +27,6 @@ namespace {
 
 struct InfoFlags {
   DatasetFlags dataset;
-  datasets::BagTopicRequest topics;  // a ROS bag's
   bool json = false;
 };
 
@@ -82,7 +81,7 @@ void printSummary(const datasets::DatasetSummary& s) {
 
 int runInfo(const InfoFlags& flags) {
   if (datasets::isBagFile(flags.dataset.path) || std::filesystem::path(flags.dataset.path).extension() == ".bag") {
-    return runBagInfo(flags.dataset.path, flags.topics, flags.json);
+    return runBagInfo(flags.dataset.path, flags.dataset.bag_topics, flags.json);
   }
   auto dataset = flags.dataset.open(/*load_images=*/true);
   if (!dataset) {
@@ -246,7 +245,6 @@ void addDatasetCommands(CLI::App& app, int& exit_code) {
       "Format, frames, points per frame, image size, path length and the share of points in the image; for a ROS 1 "
       "bag, its topics (types, counts, rates), duration, and which topics a run reads and why");
   info_flags->dataset.addTo(*info, /*with_poses=*/true);
-  addBagTopicFlags(*info, info_flags->topics);
   info->add_flag("--json", info_flags->json, "Print one JSON object instead of a table");
   info->callback([info_flags, &exit_code] { exit_code = runInfo(*info_flags); });
 

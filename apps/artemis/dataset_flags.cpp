@@ -16,12 +16,12 @@ std::filesystem::path defaultDataDir() {
 void DatasetFlags::addTo(CLI::App& app, bool with_poses, bool poses_none) {
   poses_none_ = poses_none;
   app.add_option("path", path,
-                 "Recording folder: a KITTI raw drive (or its date folder), a KITTI odometry root or "
-                 "sequences/NN folder [default: $ARTEMIS_DATA_DIR/kitti_raw, ARTEMIS_DATA_DIR defaulting "
-                 "to ../shared/data]");
-  app.add_option("--format,--dataset", format, "Dataset format: auto, kitti-raw, kitti-odometry")
+                 "Recording: a KITTI raw drive folder (or its date folder), a KITTI odometry root or "
+                 "sequences/NN folder, or a ROS 1 bag file [default: $ARTEMIS_DATA_DIR/kitti_raw, ARTEMIS_DATA_DIR "
+                 "defaulting to ../shared/data]");
+  app.add_option("--format,--dataset", format, "Dataset format: auto, kitti-raw, kitti-odometry, rosbag")
       ->capture_default_str()
-      ->check(CLI::IsMember({"auto", "kitti-raw", "kitti-odometry"}));
+      ->check(CLI::IsMember({"auto", "kitti-raw", "kitti-odometry", "rosbag"}));
   app.add_option("--frames", frames,
                  "Frame range a:b (half-open: frames a..b-1), a: (to the end), :b, or a single frame "
                  "[default: all]");
@@ -35,6 +35,13 @@ void DatasetFlags::addTo(CLI::App& app, bool with_poses, bool poses_none) {
                "Raise each KITTI HDL-64 point's elevation by 0.205 deg (the usual KITTI scan correction)");
   app.add_option("--sequence", sequence, "KITTI odometry: sequence NN to read when PATH is the root")
       ->capture_default_str();
+  app.add_option("--lidar-topic", bag_topics.lidar,
+                 "ROS bag: the LiDAR topic (sensor_msgs/PointCloud2 or Livox CustomMsg), when the bag has several");
+  app.add_option("--image-topic", bag_topics.image,
+                 "ROS bag: the camera topic (sensor_msgs/Image or CompressedImage), when the bag has several");
+  app.add_option("--imu-topic", bag_topics.imu, "ROS bag: the sensor_msgs/Imu topic, when the bag has several");
+  app.add_option("--odom-topic", bag_topics.odometry,
+                 "ROS bag: the nav_msgs/Odometry topic (the frames' poses), when the bag has several");
   if (with_poses) {
     const std::string file_help =
         "Replace the recording's poses with this file (one T_W_L per recording frame, 12 numbers a line, "
@@ -59,6 +66,7 @@ Result<std::unique_ptr<datasets::Dataset>> DatasetFlags::open(bool load_images) 
   options.vertical_angle_correction = vertical_correction;
   options.sequence = sequence;
   options.load_images = load_images;
+  options.bag_topics = bag_topics;
   auto format_id = datasets::parseDatasetFormat(format);
   if (!format_id) return format_id.status();
   const std::filesystem::path where = path.empty() ? defaultDataDir() / "kitti_raw" : std::filesystem::path(path);

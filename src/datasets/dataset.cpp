@@ -159,7 +159,8 @@ Result<DatasetFormat> parseDatasetFormat(const std::string& name) {
   if (name == "auto") return DatasetFormat::kAuto;
   if (name == "kitti-raw") return DatasetFormat::kKittiRaw;
   if (name == "kitti-odometry") return DatasetFormat::kKittiOdometry;
-  return invalidArgument(fmt::format("unknown dataset format '{}' (auto, kitti-raw, kitti-odometry)", name));
+  if (name == "rosbag") return DatasetFormat::kRosbag;
+  return invalidArgument(fmt::format("unknown dataset format '{}' (auto, kitti-raw, kitti-odometry, rosbag)", name));
 }
 
 }  // namespace artemis::datasets

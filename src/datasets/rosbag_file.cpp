@@ -10,6 +10,8 @@
 #include <array>
 #include <fstream>
 #include <map>
+#include <memory>
+#include <mutex>
 #include <set>
 
 namespace artemis::datasets {
@@ -114,12 +116,46 @@ Status forEachBagMessage(const fs::path& bag, const std::vector<std::string>& to
       buffer.resize(m.size());
       ros::serialization::OStream stream(buffer.data(), static_cast<std::uint32_t>(buffer.size()));
       m.write(stream);
-      if (Status s = visit({m.getTopic(), m.getTime().toSec(), buffer}); !s.isOk()) return s;
+      const BagMessage message{m.getTopic(), static_cast<std::int64_t>(m.getTime().toNSec()), m.getTime().toSec(),
+                               buffer};
+      if (Status s = visit(message); !s.isOk()) return s;
     }
   } catch (const std::exception& e) {
     return bagError(bag, e);
   }
   return Status::ok();
+}
+
+struct BagReader::Impl {
+  rosbag::Bag bag;
+  std::mutex mutex;
+};
+
+BagReader::BagReader(fs::path path, std::unique_ptr<Impl> impl) : path_(std::move(path)), impl_(std::move(impl)) {}
+BagReader::~BagReader() = default;
+
+Result<std::unique_ptr<BagReader>> BagReader::open(const fs::path& bag) {
+  auto impl = std::make_unique<Impl>();
+  if (Status s = openBag(bag, impl->bag); !s.isOk()) return s;
+  return std::unique_ptr<BagReader>(new BagReader(bag, std::move(impl)));
+}
+
+Result<std::vector<std::uint8_t>> BagReader::read(const std::string& topic, std::int64_t stamp_ns) const {
+  const std::lock_guard lock(impl_->mutex);
+  try {
+    ros::Time at;
+    at.fromNSec(static_cast<std::uint64_t>(stamp_ns));
+    rosbag::View view(impl_->bag, rosbag::TopicQuery(topic), at, at);
+    for (const rosbag::MessageInstance& m : view) {
+      std::vector<std::uint8_t> out(m.size());
+      ros::serialization::OStream stream(out.data(), static_cast<std::uint32_t>(out.size()));
+      m.write(stream);
+      return out;
+    }
+  } catch (const std::exception& e) {
+    return bagError(path_, e);
+  }
+  return notFound(path_.string() + ": no message of " + topic + " at bag time " + std::to_string(stamp_ns) + " ns");
 }
 
 }  // namespace artemis::datasets

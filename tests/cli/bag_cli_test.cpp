@@ -1,13 +1,16 @@
-// artemis dataset info FILE.bag as a user runs it, on a bag written by Debian's python3-rosbag:
-// the topic table and the topics a run reads, the same as JSON, and clear errors for a topic the
-// bag lacks and for a file that is not a bag.
+// ROS 1 bags as a user gives them to artemis, written by Debian's python3-rosbag: `dataset info`
+// (the topic table and the topics a run reads, the same as JSON, clear errors for a topic the bag
+// lacks and for a file that is not a bag), and `run FILE.bag` on a simulated street written as a
+// bag, which must give the mesh of the same street read from its KITTI layout.
 
 #include <gtest/gtest.h>
 
+#include <cstdlib>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "artemis/datasets/pose_file.hpp"
 #include "cli_run.hpp"
 #include "support/test_bag.hpp"
 #include "support/test_support.hpp"
@@ -51,6 +54,50 @@ TEST(CliBag, InfoListsTopicsAndWhatARunReads) {
   const auto absent = test::runCli("dataset info " + (tmp / "absent.bag").string());
   EXPECT_EQ(absent.exit_code, 1);
   EXPECT_NE(absent.err.find("no such file"), std::string::npos) << absent.err;
+}
+
+// A simulated street mapped from its KITTI layout, then written as a bag (its scans as PointCloud2,
+// the run's poses as Odometry of a base frame that a static transform links to the LiDAR) and
+// mapped from the bag: the same points at the same poses, so the same mesh, byte for byte.
+TEST(CliBag, RunOnABagMapsWhatTheRecordingItWasMadeFromMaps) {
+  test::TempDir tmp;
+  std::string why;
+  if (test::writeTestBag(tmp.path(), "none", why).empty()) {  // the same Python modules
+    if (test::runningInCi()) FAIL() << why;
+    GTEST_SKIP() << why;
+  }
+  const auto sim = test::runCli("sim --preset demo --frames 6 --azimuth-step 0.72 --out " + (tmp / "sim").string());
+  ASSERT_EQ(sim.exit_code, 0) << sim.err;
+  const auto kitti = test::runCli("run " + (tmp / "sim").string() + " --texture off --out " + (tmp / "kitti").string());
+  ASSERT_EQ(kitti.exit_code, 0) << kitti.err;
+  const auto convert = [&](const std::string& name, const std::string& extra) {
+    const std::string cmd = "/usr/bin/python3 " ARTEMIS_SOURCE_DIR "/tests/cli/kitti_to_bag.py " +
+                            (tmp / "sim/sequences/00/velodyne").string() + " " +
+                            (tmp / "kitti/trajectory.txt").string() + " " + (tmp / name).string() + extra;
+    return std::system(cmd.c_str());
+  };
+  ASSERT_EQ(convert("street.bag", ""), 0);
+  const auto bag =
+      test::runCli("run " + (tmp / "street.bag").string() + " --texture off --out " + (tmp / "bag").string());
+  ASSERT_EQ(bag.exit_code, 0) << bag.err;
+  EXPECT_NE(bag.err.find("poses from /odom (6 samples), frame \"base_link\" into the LiDAR's \"velodyne\""),
+            std::string::npos)
+      << bag.err;
+  EXPECT_TRUE(test::slurp(tmp / "bag/mesh.ply") == test::slurp(tmp / "kitti/mesh.ply")) << "the meshes differ";
+  const auto from_bag = datasets::readPoseFile(tmp / "bag/trajectory.txt");
+  const auto from_kitti = datasets::readPoseFile(tmp / "kitti/trajectory.txt");
+  ASSERT_TRUE(from_bag && from_kitti);
+  ASSERT_EQ(from_bag->size(), 6U);
+  for (std::size_t k = 0; k < 6; ++k) EXPECT_TRUE((*from_bag)[k].isApprox((*from_kitti)[k], 1e-9)) << k;
+  const auto config = nlohmann::json::parse(test::slurp(tmp / "bag/config.json"));
+  EXPECT_EQ(config["dataset"]["path"], (tmp / "street.bag").string());
+
+  // Odometry of a frame that no static transform links to the LiDAR's: an error that says so.
+  ASSERT_EQ(convert("no_tf.bag", " --no-tf"), 0);
+  const auto no_tf =
+      test::runCli("run " + (tmp / "no_tf.bag").string() + " --texture off --out " + (tmp / "x").string());
+  EXPECT_EQ(no_tf.exit_code, 1);
+  EXPECT_NE(no_tf.err.find("no /tf_static transform links it"), std::string::npos) << no_tf.err;
 }
 
 }  // namespace

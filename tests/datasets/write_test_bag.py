@@ -2,7 +2,7 @@
 
 Usage: /usr/bin/python3 write_test_bag.py OUT.bag none|bz2|lz4
 
-One second of a rig: a LiDAR's PointCloud2 at 10 Hz (3 points each, x y z intensity, frame
+One second of a rig: a LiDAR's PointCloud2 at 10 Hz (3 points each, x y z intensity t, frame
 "velodyne"), a camera's raw and compressed images and its CameraInfo at 10 Hz, an IMU at 100 Hz,
 odometry at 10 Hz and one static transform. Bag times start at 1000 s.
 """
@@ -21,12 +21,15 @@ out, compression = sys.argv[1], sys.argv[2]
 with rosbag.Bag(out, "w", compression=compression) as bag:
     for i in range(10):
         t = rospy.Time(1000, i * 100_000_000)
+        # Point k: x y z intensity = i + 4k + 0..3, and Ouster's per-point time "t" = k ms (in ns).
         cloud = PointCloud2(header=Header(seq=i, stamp=t, frame_id="velodyne"), height=1, width=3,
                             fields=[PointField("x", 0, PointField.FLOAT32, 1), PointField("y", 4, PointField.FLOAT32, 1),
                                     PointField("z", 8, PointField.FLOAT32, 1),
-                                    PointField("intensity", 12, PointField.FLOAT32, 1)],
-                            is_bigendian=False, point_step=16, row_step=48, is_dense=True,
-                            data=struct.pack("<12f", *[float(i + k) for k in range(12)]))
+                                    PointField("intensity", 12, PointField.FLOAT32, 1),
+                                    PointField("t", 16, PointField.UINT32, 1)],
+                            is_bigendian=False, point_step=20, row_step=60, is_dense=True,
+                            data=b"".join(struct.pack("<4fI", *[float(i + 4 * k + j) for j in range(4)], k * 1_000_000)
+                                          for k in range(3)))
         bag.write("/velodyne_points", cloud, t)
         image = Image(header=Header(seq=i, stamp=t, frame_id="camera"), height=2, width=3, encoding="rgb8",
                       is_bigendian=0, step=9, data=bytes(range(18)))
@@ -35,11 +38,14 @@ with rosbag.Bag(out, "w", compression=compression) as bag:
                   CompressedImage(header=Header(seq=i, stamp=t), format="jpeg", data=b"\xff\xd8\xff\xd9"), t)
         bag.write("/camera/camera_info", CameraInfo(header=Header(seq=i, stamp=t), height=2, width=3), t)
         odometry = Odometry(header=Header(seq=i, stamp=t, frame_id="odom"), child_frame_id="base_link")
-        odometry.pose.pose.orientation.w = 1.0
+        odometry.pose.pose.position.x = 0.5 * i  # driving along x, turned 90 degrees about z
+        odometry.pose.pose.orientation.z = 2 ** -0.5
+        odometry.pose.pose.orientation.w = 2 ** -0.5
         bag.write("/odom", odometry, t)
     for i in range(100):
         t = rospy.Time(1000, i * 10_000_000)
         bag.write("/imu/data", Imu(header=Header(seq=i, stamp=t, frame_id="imu")), t)
     transform = TransformStamped(header=Header(stamp=rospy.Time(1000), frame_id="base_link"), child_frame_id="velodyne")
+    transform.transform.translation.z = 1.7
     transform.transform.rotation.w = 1.0
     bag.write("/tf_static", TFMessage(transforms=[transform]), rospy.Time(1000))

@@ -16,6 +16,7 @@
 
 #include "artemis/core/frame.hpp"
 #include "artemis/core/status.hpp"
+#include "artemis/datasets/bag_topics.hpp"
 
 namespace artemis::datasets {
 
@@ -39,6 +40,7 @@ struct DatasetOptions {
   double vertical_angle_correction_deg = 0.205;
   bool load_images = true;
   std::string sequence = "00";  // KITTI odometry: which sequences/NN to read when given the root
+  BagTopicRequest bag_topics;   // ROS bags: the topics named by the user (bag_topics.hpp)
 };
 
 class Dataset {
@@ -47,7 +49,7 @@ class Dataset {
   Dataset(const Dataset&) = delete;
   Dataset& operator=(const Dataset&) = delete;
 
-  // "kitti-raw", "kitti-odometry".
+  // "kitti-raw", "kitti-odometry", "rosbag".
   [[nodiscard]] virtual std::string format() const = 0;
   // The folder the frames are read from.
   [[nodiscard]] virtual std::filesystem::path root() const = 0;
@@ -106,12 +108,12 @@ void prepareScan(PointCloud& points_L, const DatasetOptions& options, FrameStats
 // azimuth); points on the z axis are left alone.
 void correctVerticalAngle(PointCloud& points_L, double angle_deg);
 
-enum class DatasetFormat { kAuto, kKittiRaw, kKittiOdometry };
+enum class DatasetFormat { kAuto, kKittiRaw, kKittiOdometry, kRosbag };
 Result<DatasetFormat> parseDatasetFormat(const std::string& name);
 
 // Opens a recording. With kAuto the layout decides: a KITTI raw drive folder (velodyne_points/),
 // its date folder (calib_cam_to_cam.txt) or their parent; a KITTI odometry root (sequences/, poses/)
-// or one of its sequences/NN folders.
+// or one of its sequences/NN folders; a ROS 1 bag file (rosbag_dataset.hpp).
 Result<std::unique_ptr<Dataset>> openDataset(const std::filesystem::path& path, DatasetFormat format,
                                              const DatasetOptions& options);
 

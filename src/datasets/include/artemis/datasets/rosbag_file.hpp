@@ -9,6 +9,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <functional>
+#include <memory>
 #include <span>
 #include <string>
 #include <vector>
@@ -46,7 +47,8 @@ Result<BagSummary> readBagSummary(const std::filesystem::path& bag);
 
 struct BagMessage {
   const std::string& topic;
-  double stamp_s;                      // bag (receipt) time
+  std::int64_t stamp_ns;               // bag (receipt) time, ns: what BagReader::read() finds it by
+  double stamp_s;                      // the same in seconds
   std::span<const std::uint8_t> data;  // the message, ROS-serialized
 };
 
@@ -54,5 +56,25 @@ struct BagMessage {
 // end or the first error visit returns (which is returned).
 Status forEachBagMessage(const std::filesystem::path& bag, const std::vector<std::string>& topics,
                          const std::function<Status(const BagMessage&)>& visit);
+
+// An open bag, for reading single messages by topic and bag time (a run's random access to its
+// frames). Reads are serialized: one thread at a time reads the file.
+class BagReader {
+ public:
+  static Result<std::unique_ptr<BagReader>> open(const std::filesystem::path& bag);
+  ~BagReader();
+  BagReader(const BagReader&) = delete;
+  BagReader& operator=(const BagReader&) = delete;
+
+  // The first message of `topic` at bag time `stamp_ns` (as BagMessage::stamp_ns gave it).
+  [[nodiscard]] Result<std::vector<std::uint8_t>> read(const std::string& topic, std::int64_t stamp_ns) const;
+  [[nodiscard]] const std::filesystem::path& path() const { return path_; }
+
+ private:
+  struct Impl;
+  BagReader(std::filesystem::path path, std::unique_ptr<Impl> impl);
+  std::filesystem::path path_;
+  std::unique_ptr<Impl> impl_;
+};
 
 }  // namespace artemis::datasets

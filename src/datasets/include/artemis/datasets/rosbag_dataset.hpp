@@ -1,0 +1,22 @@
+#pragma once
+// A ROS 1 bag as a recording (Dataset): one frame per message of its LiDAR topic (bag_topics.hpp
+// chooses it), stamped with the message header's time. Poses, when the bag has an odometry topic:
+// the odometry interpolated at each sweep's stamp (linear in position, spherical in rotation),
+// moved from the odometry's child frame into the LiDAR's frame by the bag's static transforms
+// (/tf_static, any chain of them); world = the first frame's LiDAR pose. Without odometry the
+// frames come without poses, and `artemis run` registers them.
+//
+// Not yet read: images (the frames come without cameras), IMU, Livox CustomMsg; per-point times
+// are decoded but not yet used to deskew.
+
+#include <filesystem>
+#include <memory>
+
+#include "artemis/core/status.hpp"
+#include "artemis/datasets/dataset.hpp"
+
+namespace artemis::datasets {
+
+Result<std::unique_ptr<Dataset>> openRosbag(const std::filesystem::path& bag, const DatasetOptions& options);
+
+}  // namespace artemis::datasets

@@ -1,0 +1,207 @@
+#include "artemis/datasets/rosbag_dataset.hpp"
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <deque>
+#include <map>
+#include <optional>
+
+#include <Eigen/Geometry>
+
+#include "artemis/core/log.hpp"
+#include "artemis/datasets/bag_topics.hpp"
+#include "artemis/datasets/ros_messages.hpp"
+#include "artemis/datasets/rosbag_file.hpp"
+
+namespace artemis::datasets {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct OdometrySample {
+  double stamp_s = 0.0;
+  Isometry3d pose;  // child in parent
+};
+
+// The bag's static transforms as a graph of frames; a chain of them, either way along each edge.
+class StaticFrames {
+ public:
+  void add(const ros::Transform& t) {
+    edges_[t.header.frame_id].push_back({t.child_frame_id, t.T_parent_child});
+    edges_[t.child_frame_id].push_back({t.header.frame_id, t.T_parent_child.inverse()});
+  }
+  // T_from_to: `to` in `from`, or nullopt when no chain links them.
+  [[nodiscard]] std::optional<Isometry3d> find(const std::string& from, const std::string& to) const {
+    std::map<std::string, Isometry3d> seen{{from, Isometry3d::Identity()}};
+    std::deque<std::string> queue{from};
+    while (!queue.empty()) {
+      const std::string at = queue.front();
+      queue.pop_front();
+      if (at == to) return seen.at(at);
+      const auto it = edges_.find(at);
+      if (it == edges_.end()) continue;
+      for (const auto& [next, T_at_next] : it->second) {
+        if (seen.contains(next)) continue;
+        seen.emplace(next, seen.at(at) * T_at_next);
+        queue.push_back(next);
+      }
+    }
+    return std::nullopt;
+  }
+
+ private:
+  std::map<std::string, std::vector<std::pair<std::string, Isometry3d>>> edges_;
+};
+
+// The odometry at time t: interpolated between the samples around it; nullopt outside their span
+// (beyond half a sample period's slack at either end).
+std::optional<Isometry3d> odometryAt(const std::vector<OdometrySample>& samples, double t) {
+  if (samples.empty()) return std::nullopt;
+  const double slack = samples.size() > 1 ? 0.5 * (samples.back().stamp_s - samples.front().stamp_s) /
+                                                static_cast<double>(samples.size() - 1)
+                                          : 0.0;
+  if (t < samples.front().stamp_s - slack || t > samples.back().stamp_s + slack) return std::nullopt;
+  const auto after = std::lower_bound(samples.begin(), samples.end(), t,
+                                      [](const OdometrySample& s, double v) { return s.stamp_s < v; });
+  if (after == samples.begin()) return samples.front().pose;
+  if (after == samples.end()) return samples.back().pose;
+  const OdometrySample& a = *(after - 1);
+  const OdometrySample& b = *after;
+  const double span = b.stamp_s - a.stamp_s;
+  const double w = span > 0.0 ? (t - a.stamp_s) / span : 0.0;
+  Isometry3d T = Isometry3d::Identity();
+  T.linear() = Eigen::Quaterniond(a.pose.linear()).slerp(w, Eigen::Quaterniond(b.pose.linear())).toRotationMatrix();
+  T.translation() = (1.0 - w) * a.pose.translation() + w * b.pose.translation();
+  return T;
+}
+
+class RosbagDataset final : public Dataset {
+ public:
+  static Result<std::unique_ptr<Dataset>> open(const fs::path& bag, const DatasetOptions& options) {
+    auto summary = readBagSummary(bag);
+    if (!summary) return summary.status();
+    auto choice = chooseBagTopics(*summary, options.bag_topics);
+    if (!choice) return choice.status();
+    if (choice->lidar.topic.empty()) {
+      return invalidArgument(fmt::format("{}: no LiDAR topic to map: {}", bag.string(), choice->lidar.why));
+    }
+    auto reader = BagReader::open(bag);
+    if (!reader) return reader.status();
+    const bool tf_static = summary->find("/tf_static") != nullptr;
+    std::unique_ptr<RosbagDataset> ds(new RosbagDataset(options, std::move(*reader), *choice, tf_static));
+    if (Status s = ds->load(); !s.isOk()) return s;
+    return std::unique_ptr<Dataset>(std::move(ds));
+  }
+
+  [[nodiscard]] std::string format() const override { return "rosbag"; }
+  [[nodiscard]] fs::path root() const override { return reader_->path(); }
+  [[nodiscard]] std::vector<CameraView> cameras() const override { return {}; }
+
+ protected:
+  [[nodiscard]] Result<Frame> readFrame(std::size_t index) const override {
+    const std::string& topic = choice_.lidar.topic;
+    auto bytes = reader_->read(topic, bag_ns_[index]);
+    if (!bytes) return bytes.status();
+    auto cloud = ros::decodePointCloud2(*bytes);
+    if (!cloud)
+      return parseError(fmt::format("{}: {} message {}: {}", root().string(), topic, index, cloud.status().message()));
+    Frame frame;
+    frame.scan_path = fmt::format("{}:{}#{}", root().string(), topic, index);
+    frame.points_L = std::move(cloud->points);
+    if (!cloud->time_s.empty()) {
+      const auto [lo, hi] = std::minmax_element(cloud->time_s.begin(), cloud->time_s.end());
+      frame.scan_start_s = stamps_s_[index] + *lo;
+      frame.scan_end_s = stamps_s_[index] + *hi;
+    }
+    return frame;
+  }
+
+ private:
+  RosbagDataset(const DatasetOptions& options, std::unique_ptr<BagReader> reader, BagTopicChoice choice, bool tf_static)
+      : Dataset(options), reader_(std::move(reader)), choice_(std::move(choice)), tf_static_(tf_static) {}
+
+  // One pass over the LiDAR's, the odometry's and the static transforms' messages: the frames'
+  // stamps, and their poses when there is odometry.
+  Status load() {
+    std::vector<std::string> topics{choice_.lidar.topic};
+    if (!choice_.odometry.topic.empty()) topics.push_back(choice_.odometry.topic);
+    if (tf_static_) topics.emplace_back("/tf_static");
+    std::vector<OdometrySample> odometry;
+    std::string odometry_child;
+    StaticFrames frames;
+    const Status read = forEachBagMessage(root(), topics, [&](const BagMessage& m) -> Status {
+      if (m.topic == choice_.lidar.topic) {
+        auto header = ros::decodeHeader(m.data);
+        if (!header) return header.status();
+        if (lidar_frame_.empty()) lidar_frame_ = header->frame_id;
+        bag_ns_.push_back(m.stamp_ns);
+        stamps_s_.push_back(header->stamp_s);
+      } else if (m.topic == choice_.odometry.topic) {
+        auto o = ros::decodeOdometry(m.data);
+        if (!o) return o.status();
+        odometry_child = o->child_frame_id;
+        odometry.push_back({o->header.stamp_s, o->pose});
+      } else {
+        auto transforms = ros::decodeTfMessage(m.data);
+        if (!transforms) return transforms.status();
+        for (const ros::Transform& t : *transforms) frames.add(t);
+      }
+      return Status::ok();
+    });
+    if (!read.isOk()) return parseError(fmt::format("{}: {}", root().string(), read.message()));
+    if (bag_ns_.empty())
+      return parseError(fmt::format("{}: {} holds no message", root().string(), choice_.lidar.topic));
+    if (!odometry.empty()) {
+      if (Status s = posesFromOdometry(odometry, odometry_child, frames); !s.isOk()) return s;
+    }
+    return selectRange();
+  }
+
+  Status posesFromOdometry(std::vector<OdometrySample>& odometry, const std::string& child,
+                           const StaticFrames& frames) {
+    std::stable_sort(odometry.begin(), odometry.end(),
+                     [](const OdometrySample& a, const OdometrySample& b) { return a.stamp_s < b.stamp_s; });
+    std::optional<Isometry3d> T_child_L = Isometry3d::Identity();
+    if (child != lidar_frame_) T_child_L = frames.find(child, lidar_frame_);
+    if (!T_child_L) {
+      return invalidArgument(fmt::format(
+          "{}: the odometry ({}) is the pose of frame \"{}\", but no /tf_static transform links it to the LiDAR's "
+          "frame \"{}\"; run with --poses none to register the scans instead",
+          root().string(), choice_.odometry.topic, child, lidar_frame_));
+    }
+    std::optional<Isometry3d> T_L0_O;
+    poses_.reserve(stamps_s_.size());
+    for (std::size_t i = 0; i < stamps_s_.size(); ++i) {
+      const auto T_O_child = odometryAt(odometry, stamps_s_[i]);
+      if (!T_O_child) {
+        return invalidArgument(
+            fmt::format("{}: frame {} ({:.3f} s) lies outside the odometry's {:.3f} to {:.3f} s; "
+                        "--frames can leave it out, --poses none registers the scans instead",
+                        root().string(), i, stamps_s_[i], odometry.front().stamp_s, odometry.back().stamp_s));
+      }
+      const Isometry3d T_O_L = *T_O_child * *T_child_L;
+      if (!T_L0_O) T_L0_O = T_O_L.inverse();
+      poses_.push_back(*T_L0_O * T_O_L);
+    }
+    has_poses_ = true;
+    log::info("{}: poses from {} ({} samples), frame \"{}\" into the LiDAR's \"{}\"", root().string(),
+              choice_.odometry.topic, odometry.size(), child, lidar_frame_);
+    return Status::ok();
+  }
+
+  std::unique_ptr<BagReader> reader_;
+  BagTopicChoice choice_;
+  std::vector<std::int64_t> bag_ns_;  // per frame: its message's bag time
+  bool tf_static_ = false;
+  std::string lidar_frame_;
+};
+
+}  // namespace
+
+Result<std::unique_ptr<Dataset>> openRosbag(const fs::path& bag, const DatasetOptions& options) {
+  return RosbagDataset::open(bag, options);
+}
+
+}  // namespace artemis::datasets
