@@ -41,6 +41,10 @@ std::string namespaceOf(const std::string& topic) {
 Result<BagPick> pick(const BagSummary& bag, BagRole role, const std::string& requested) {
   BagPick p{role, {}, {}, candidatesOf(bag, role)};
   const std::string kinds = joined(bagRoleTypes(role));
+  if (requested == "none") {
+    p.why = "left out with " + flagOf(role) + " none";
+    return p;
+  }
   if (!requested.empty()) {
     const BagTopic* t = bag.find(requested);
     if (t == nullptr || std::find(p.candidates.begin(), p.candidates.end(), requested) == p.candidates.end()) {

@@ -247,6 +247,17 @@ Result<ImageMessage> decodeImage(std::span<const std::uint8_t> data) {
   return out;
 }
 
+Result<CompressedImage> decodeCompressedImage(std::span<const std::uint8_t> data) {
+  Reader in(data, "sensor_msgs/CompressedImage");
+  CompressedImage out;
+  out.header = in.header();
+  out.format = in.string("format");
+  const auto bytes = in.bytes("data");
+  if (!in.ok()) return in.status();
+  out.data.assign(bytes.begin(), bytes.end());
+  return out;
+}
+
 Result<CameraInfo> decodeCameraInfo(std::span<const std::uint8_t> data) {
   Reader in(data, "sensor_msgs/CameraInfo");
   CameraInfo out;

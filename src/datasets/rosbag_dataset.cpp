@@ -11,8 +11,11 @@
 
 #include "artemis/core/log.hpp"
 #include "artemis/datasets/bag_topics.hpp"
+#include "artemis/datasets/compressed_image.hpp"
+#include "artemis/datasets/kitti_calib.hpp"
 #include "artemis/datasets/ros_messages.hpp"
 #include "artemis/datasets/rosbag_file.hpp"
+#include "artemis/datasets/undistortion.hpp"
 
 namespace artemis::datasets {
 
@@ -89,15 +92,16 @@ class RosbagDataset final : public Dataset {
     }
     auto reader = BagReader::open(bag);
     if (!reader) return reader.status();
-    const bool tf_static = summary->find("/tf_static") != nullptr;
-    std::unique_ptr<RosbagDataset> ds(new RosbagDataset(options, std::move(*reader), *choice, tf_static));
+    std::unique_ptr<RosbagDataset> ds(new RosbagDataset(options, std::move(*reader), *choice, std::move(*summary)));
     if (Status s = ds->load(); !s.isOk()) return s;
     return std::unique_ptr<Dataset>(std::move(ds));
   }
 
   [[nodiscard]] std::string format() const override { return "rosbag"; }
   [[nodiscard]] fs::path root() const override { return reader_->path(); }
-  [[nodiscard]] std::vector<CameraView> cameras() const override { return {}; }
+  [[nodiscard]] std::vector<CameraView> cameras() const override {
+    return camera_ ? std::vector<CameraView>{camera_->view} : std::vector<CameraView>{};
+  }
 
  protected:
   [[nodiscard]] Result<Frame> readFrame(std::size_t index) const override {
@@ -115,19 +119,28 @@ class RosbagDataset final : public Dataset {
       frame.scan_start_s = stamps_s_[index] + *lo;
       frame.scan_end_s = stamps_s_[index] + *hi;
     }
+    if (camera_) frame.cameras.push_back(cameraOf(index, frame.stats));
     return frame;
   }
 
  private:
-  RosbagDataset(const DatasetOptions& options, std::unique_ptr<BagReader> reader, BagTopicChoice choice, bool tf_static)
-      : Dataset(options), reader_(std::move(reader)), choice_(std::move(choice)), tf_static_(tf_static) {}
+  RosbagDataset(const DatasetOptions& options, std::unique_ptr<BagReader> reader, BagTopicChoice choice,
+                BagSummary summary)
+      : Dataset(options), reader_(std::move(reader)), choice_(std::move(choice)), summary_(std::move(summary)) {}
 
   // One pass over the LiDAR's, the odometry's and the static transforms' messages: the frames'
   // stamps, and their poses when there is odometry.
   Status load() {
     std::vector<std::string> topics{choice_.lidar.topic};
     if (!choice_.odometry.topic.empty()) topics.push_back(choice_.odometry.topic);
-    if (tf_static_) topics.emplace_back("/tf_static");
+    if (summary_.find("/tf_static") != nullptr) topics.emplace_back("/tf_static");
+    const std::string& image_topic = choice_.image.topic;
+    const std::string& info_topic = choice_.camera_info.topic;
+    if (!image_topic.empty()) topics.push_back(image_topic);
+    if (!image_topic.empty() && !info_topic.empty()) topics.push_back(info_topic);
+    std::vector<std::pair<double, std::int64_t>> images;  // header stamp, bag time
+    std::string image_frame;
+    std::optional<ros::CameraInfo> info;
     std::vector<OdometrySample> odometry;
     std::string odometry_child;
     StaticFrames frames;
@@ -138,6 +151,17 @@ class RosbagDataset final : public Dataset {
         if (lidar_frame_.empty()) lidar_frame_ = header->frame_id;
         bag_ns_.push_back(m.stamp_ns);
         stamps_s_.push_back(header->stamp_s);
+      } else if (m.topic == image_topic) {
+        auto header = ros::decodeHeader(m.data);
+        if (!header) return header.status();
+        if (image_frame.empty()) image_frame = header->frame_id;
+        images.emplace_back(header->stamp_s, m.stamp_ns);
+      } else if (m.topic == info_topic) {
+        if (!info) {
+          auto decoded = ros::decodeCameraInfo(m.data);
+          if (!decoded) return decoded.status();
+          info = std::move(decoded.value());
+        }
       } else if (m.topic == choice_.odometry.topic) {
         auto o = ros::decodeOdometry(m.data);
         if (!o) return o.status();
@@ -156,6 +180,9 @@ class RosbagDataset final : public Dataset {
     if (!odometry.empty()) {
       if (Status s = posesFromOdometry(odometry, odometry_child, frames); !s.isOk()) return s;
     }
+    if (!image_topic.empty()) {
+      if (Status s = loadCamera(images, image_frame, info, frames); !s.isOk()) return s;
+    }
     return selectRange();
   }
 
@@ -168,7 +195,7 @@ class RosbagDataset final : public Dataset {
     if (!T_child_L) {
       return invalidArgument(fmt::format(
           "{}: the odometry ({}) is the pose of frame \"{}\", but no /tf_static transform links it to the LiDAR's "
-          "frame \"{}\"; run with --poses none to register the scans instead",
+          "frame \"{}\"; --odom-topic none leaves the odometry out, and the scans are registered instead",
           root().string(), choice_.odometry.topic, child, lidar_frame_));
     }
     std::optional<Isometry3d> T_L0_O;
@@ -178,7 +205,7 @@ class RosbagDataset final : public Dataset {
       if (!T_O_child) {
         return invalidArgument(
             fmt::format("{}: frame {} ({:.3f} s) lies outside the odometry's {:.3f} to {:.3f} s; "
-                        "--frames can leave it out, --poses none registers the scans instead",
+                        "--frames can leave it out; --odom-topic none registers the scans instead",
                         root().string(), i, stamps_s_[i], odometry.front().stamp_s, odometry.back().stamp_s));
       }
       const Isometry3d T_O_L = *T_O_child * *T_child_L;
@@ -191,11 +218,123 @@ class RosbagDataset final : public Dataset {
     return Status::ok();
   }
 
+  // The camera: its calibration, and its images' stamps.
+  struct Camera {
+    CameraView view;  // without an image
+    std::optional<Undistortion> undistortion;
+    bool compressed = false;
+    std::vector<double> stamps_s;      // header stamps, in bag order
+    std::vector<std::int64_t> bag_ns;  // their messages' bag times
+    double tolerance_s = 0.05;         // half the LiDAR's period
+  };
+
+  // Frame `index`'s view: the image nearest its stamp, read and undistorted, unless none is near
+  // enough or it cannot be read (counted in `stats`, logged).
+  CameraView cameraOf(std::size_t index, FrameStats& stats) const {
+    CameraView view = camera_->view;
+    const auto& stamps = camera_->stamps_s;
+    const double t = stamps_s_[index];
+    const auto after = std::lower_bound(stamps.begin(), stamps.end(), t);
+    std::size_t best = stamps.size();
+    for (auto it : {after - (after != stamps.begin() ? 1 : 0), after}) {
+      if (it == stamps.end()) continue;
+      const auto k = static_cast<std::size_t>(it - stamps.begin());
+      if (best == stamps.size() || std::abs(stamps[k] - t) < std::abs(stamps[best] - t)) best = k;
+    }
+    if (best == stamps.size() || std::abs(stamps[best] - t) > camera_->tolerance_s) {
+      ++stats.missing_images;
+      log::warn("{}: frame {} ({:.3f} s) has no image within {:.3f} s; it continues without one", root().string(),
+                index, t, camera_->tolerance_s);
+      return view;
+    }
+    view.image_path = fmt::format("{}:{}#{}", root().string(), view.name, best);
+    if (!options().load_images) return view;
+    auto image = readImage(best);
+    if (!image) {
+      ++stats.missing_images;
+      log::warn("{}: frame continues without this image ({})", view.image_path, image.status().message());
+      return view;
+    }
+    view.image = std::move(image.value());
+    return view;
+  }
+
+  [[nodiscard]] Result<ImageU8> readImage(std::size_t k) const {
+    auto bytes = reader_->read(camera_->view.name, camera_->bag_ns[k]);
+    if (!bytes) return bytes.status();
+    ImageU8 raw;
+    if (camera_->compressed) {
+      auto message = ros::decodeCompressedImage(*bytes);
+      if (!message) return message.status();
+      auto picture = decodeCompressedPicture(message->data, "format \"" + message->format + "\"");
+      if (!picture) return picture.status();
+      raw = std::move(picture.value());
+    } else {
+      auto message = ros::decodeImage(*bytes);
+      if (!message) return message.status();
+      raw = std::move(message->rgb);
+    }
+    return camera_->undistortion->apply(std::move(raw));
+  }
+
+  // The camera of the chosen image topic: CameraInfo, the image frame's pose in the LiDAR's, and
+  // every image's stamp (`images`: header stamp, bag time, frame id of each image message).
+  Status loadCamera(const std::vector<std::pair<double, std::int64_t>>& images, const std::string& image_frame,
+                    const std::optional<ros::CameraInfo>& info, const StaticFrames& frames) {
+    const std::string& topic = choice_.image.topic;
+    const auto off = [&](const std::string& why) {
+      return invalidArgument(fmt::format("{}: the camera {} {}; --image-topic none maps the bag without images",
+                                         root().string(), topic, why));
+    };
+    if (images.empty()) return off("holds no message");
+    if (!info) return off("has no sensor_msgs/CameraInfo beside it (" + choice_.camera_info.why + ")");
+    auto undistortion = Undistortion::fromCameraInfo(*info);
+    if (!undistortion) return off("cannot be calibrated: " + undistortion.status().message());
+    const auto T_L_C = frames.find(lidar_frame_, image_frame);
+    if (!T_L_C) {
+      return off(fmt::format("is of frame \"{}\", which no /tf_static transform links to the LiDAR's \"{}\"",
+                             image_frame, lidar_frame_));
+    }
+    Camera camera;
+    camera.view.name = topic;
+    camera.view.camera = undistortion->camera();
+    // P's fourth column: a stereo camera's offset in the rectified frame of the first (zero for a
+    // single camera); as KITTI's P2, it moves the camera within the frame its transform names.
+    camera.view.T_L_C = *T_L_C;
+    if (undistortion->identity() && info->P[0] > 0.0) {
+      auto view = cameraFromProjection(topic, info->P, T_L_C->inverse(), info->width, info->height);
+      if (!view) return off("cannot be calibrated: P: " + view.status().message());
+      camera.view.T_L_C = view->T_L_C;
+    }
+    camera.undistortion = std::move(undistortion.value());
+    camera.compressed = bagTypeOf(topic) == "sensor_msgs/CompressedImage";
+    for (const auto& [stamp, ns] : images) {
+      camera.stamps_s.push_back(stamp);
+      camera.bag_ns.push_back(ns);
+    }
+    if (!std::is_sorted(camera.stamps_s.begin(), camera.stamps_s.end())) {
+      return off("has header stamps out of order");
+    }
+    if (stamps_s_.size() > 1) {
+      camera.tolerance_s = 0.5 * (stamps_s_.back() - stamps_s_.front()) / static_cast<double>(stamps_s_.size() - 1);
+    }
+    camera_ = std::move(camera);
+    log::info("{}: camera {} ({}x{}, {}), frame \"{}\"", root().string(), topic, info->width, info->height,
+              camera_->undistortion->identity() ? "rectified" : info->distortion_model + " undistorted", image_frame);
+    return Status::ok();
+  }
+
+  [[nodiscard]] std::string bagTypeOf(const std::string& topic) const {
+    const BagTopic* t = summary_.find(topic);
+    return t != nullptr ? t->type : std::string();
+  }
+
   std::unique_ptr<BagReader> reader_;
   BagTopicChoice choice_;
   std::vector<std::int64_t> bag_ns_;  // per frame: its message's bag time
-  bool tf_static_ = false;
+  BagSummary summary_;
   std::string lidar_frame_;
+  std::optional<Camera> camera_;
 };
 
 }  // namespace

@@ -5,12 +5,14 @@
 
 #include <gtest/gtest.h>
 
+#include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
 
 #include "artemis/datasets/pose_file.hpp"
+#include "artemis/io/ply.hpp"
 #include "cli_run.hpp"
 #include "support/test_bag.hpp"
 #include "support/test_support.hpp"
@@ -57,8 +59,10 @@ TEST(CliBag, InfoListsTopicsAndWhatARunReads) {
 }
 
 // A simulated street mapped from its KITTI layout, then written as a bag (its scans as PointCloud2,
-// the run's poses as Odometry of a base frame that a static transform links to the LiDAR) and
-// mapped from the bag: the same points at the same poses, so the same mesh, byte for byte.
+// its images as CompressedImage PNGs with their CameraInfo, the run's poses as Odometry of a base
+// frame, static transforms to the LiDAR and the camera) and mapped from the bag: the same points
+// at the same poses, so the same geometry, byte for byte; the colours differ only where the
+// camera's pose, through a quaternion and back, moves a pixel boundary.
 TEST(CliBag, RunOnABagMapsWhatTheRecordingItWasMadeFromMaps) {
   test::TempDir tmp;
   std::string why;
@@ -68,36 +72,62 @@ TEST(CliBag, RunOnABagMapsWhatTheRecordingItWasMadeFromMaps) {
   }
   const auto sim = test::runCli("sim --preset demo --frames 6 --azimuth-step 0.72 --out " + (tmp / "sim").string());
   ASSERT_EQ(sim.exit_code, 0) << sim.err;
-  const auto kitti = test::runCli("run " + (tmp / "sim").string() + " --texture off --out " + (tmp / "kitti").string());
+  const auto kitti = test::runCli("run " + (tmp / "sim").string() + " --out " + (tmp / "kitti").string());
   ASSERT_EQ(kitti.exit_code, 0) << kitti.err;
   const auto convert = [&](const std::string& name, const std::string& extra) {
     const std::string cmd = "/usr/bin/python3 " ARTEMIS_SOURCE_DIR "/tests/cli/kitti_to_bag.py " +
-                            (tmp / "sim/sequences/00/velodyne").string() + " " +
-                            (tmp / "kitti/trajectory.txt").string() + " " + (tmp / name).string() + extra;
+                            (tmp / "sim/sequences/00").string() + " " + (tmp / "kitti/trajectory.txt").string() + " " +
+                            (tmp / name).string() + extra;
     return std::system(cmd.c_str());
   };
   ASSERT_EQ(convert("street.bag", ""), 0);
-  const auto bag =
-      test::runCli("run " + (tmp / "street.bag").string() + " --texture off --out " + (tmp / "bag").string());
+  const auto bag = test::runCli("run " + (tmp / "street.bag").string() + " --out " + (tmp / "bag").string());
   ASSERT_EQ(bag.exit_code, 0) << bag.err;
   EXPECT_NE(bag.err.find("poses from /odom (6 samples), frame \"base_link\" into the LiDAR's \"velodyne\""),
             std::string::npos)
       << bag.err;
-  EXPECT_TRUE(test::slurp(tmp / "bag/mesh.ply") == test::slurp(tmp / "kitti/mesh.ply")) << "the meshes differ";
-  const auto from_bag = datasets::readPoseFile(tmp / "bag/trajectory.txt");
-  const auto from_kitti = datasets::readPoseFile(tmp / "kitti/trajectory.txt");
+  EXPECT_NE(bag.err.find("camera /camera/image_raw/compressed (1242x375, rectified)"), std::string::npos) << bag.err;
+
+  const auto from_bag = io::readPly(tmp / "bag/mesh.ply");
+  const auto from_kitti = io::readPly(tmp / "kitti/mesh.ply");
   ASSERT_TRUE(from_bag && from_kitti);
-  ASSERT_EQ(from_bag->size(), 6U);
-  for (std::size_t k = 0; k < 6; ++k) EXPECT_TRUE((*from_bag)[k].isApprox((*from_kitti)[k], 1e-9)) << k;
+  ASSERT_EQ(from_bag->find("face")->count, from_kitti->find("face")->count);
+  EXPECT_TRUE(from_bag->find("face")->properties[0].values == from_kitti->find("face")->properties[0].values);
+  for (const char* axis : {"x", "y", "z"}) {
+    EXPECT_TRUE(*from_bag->scalarAs<float>("vertex", axis) == *from_kitti->scalarAs<float>("vertex", axis)) << axis;
+  }
+  std::size_t coloured = 0;
+  std::size_t off_by_more_than_one = 0;
+  for (const char* channel : {"red", "green", "blue"}) {
+    const auto a = *from_bag->scalarAs<int>("vertex", channel);
+    const auto b = *from_kitti->scalarAs<int>("vertex", channel);
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      coloured += b[i] != 0 ? 1 : 0;
+      off_by_more_than_one += std::abs(a[i] - b[i]) > 1 ? 1 : 0;
+    }
+  }
+  EXPECT_GT(coloured, from_kitti->find("vertex")->count);  // the images coloured the mesh
+  EXPECT_LT(off_by_more_than_one, coloured / 1000);
+  const auto from_bag_poses = datasets::readPoseFile(tmp / "bag/trajectory.txt");
+  const auto from_kitti_poses = datasets::readPoseFile(tmp / "kitti/trajectory.txt");
+  ASSERT_TRUE(from_bag_poses && from_kitti_poses);
+  ASSERT_EQ(from_bag_poses->size(), 6U);
+  for (std::size_t k = 0; k < 6; ++k) EXPECT_TRUE((*from_bag_poses)[k].isApprox((*from_kitti_poses)[k], 1e-9)) << k;
   const auto config = nlohmann::json::parse(test::slurp(tmp / "bag/config.json"));
   EXPECT_EQ(config["dataset"]["path"], (tmp / "street.bag").string());
 
-  // Odometry of a frame that no static transform links to the LiDAR's: an error that says so.
+  // Without the static transforms, the odometry's frame and the camera's float free: errors that
+  // say so, and the camera can be left out.
   ASSERT_EQ(convert("no_tf.bag", " --no-tf"), 0);
-  const auto no_tf =
-      test::runCli("run " + (tmp / "no_tf.bag").string() + " --texture off --out " + (tmp / "x").string());
+  const auto no_tf = test::runCli("run " + (tmp / "no_tf.bag").string() + " --out " + (tmp / "x").string());
   EXPECT_EQ(no_tf.exit_code, 1);
   EXPECT_NE(no_tf.err.find("no /tf_static transform links it"), std::string::npos) << no_tf.err;
+  EXPECT_NE(no_tf.err.find("--odom-topic none"), std::string::npos) << no_tf.err;
+  const auto unposed =
+      test::runCli("run " + (tmp / "no_tf.bag").string() + " --odom-topic none --out " + (tmp / "y").string());
+  EXPECT_EQ(unposed.exit_code, 1);
+  EXPECT_NE(unposed.err.find("which no /tf_static transform links to the LiDAR's"), std::string::npos) << unposed.err;
+  EXPECT_NE(unposed.err.find("--image-topic none"), std::string::npos) << unposed.err;
 }
 
 }  // namespace

@@ -18,7 +18,7 @@ enum class BagRole { kLidar, kImage, kCameraInfo, kImu, kOdometry };
 const char* bagRoleName(BagRole role);  // "lidar", "image", "camera_info", "imu", "odometry"
 const std::vector<std::string>& bagRoleTypes(BagRole role);
 
-struct BagTopicRequest {  // empty: choose
+struct BagTopicRequest {  // empty: choose; "none": leave the role out
   std::string lidar;
   std::string image;
   std::string imu;

@@ -48,6 +48,15 @@ struct ImageMessage {
 };
 Result<ImageMessage> decodeImage(std::span<const std::uint8_t> data);
 
+// sensor_msgs/CompressedImage: its format ("jpeg", "png", or as image_transport writes it, e.g.
+// "rgb8; jpeg compressed bgr8") and its bytes (compressed_image.hpp decodes them).
+struct CompressedImage {
+  Header header;
+  std::string format;
+  std::vector<std::uint8_t> data;
+};
+Result<CompressedImage> decodeCompressedImage(std::span<const std::uint8_t> data);
+
 // sensor_msgs/CameraInfo: size, distortion model and coefficients, K and P (row-major).
 struct CameraInfo {
   Header header;

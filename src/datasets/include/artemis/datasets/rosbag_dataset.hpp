@@ -6,8 +6,14 @@
 // (/tf_static, any chain of them); world = the first frame's LiDAR pose. Without odometry the
 // frames come without poses, and `artemis run` registers them.
 //
-// Not yet read: images (the frames come without cameras), IMU, Livox CustomMsg; per-point times
-// are decoded but not yet used to deskew.
+// The camera, when the bag has an image topic (Image or CompressedImage): intrinsics and
+// distortion from the CameraInfo beside it (undistortion.hpp), its pose from the static transforms
+// between the image's frame and the LiDAR's. Each sweep takes the image nearest its stamp, if one
+// lies within half the LiDAR's period; else the frame comes without it (counted and logged, as a
+// missing image).
+//
+// Not yet read: IMU, Livox CustomMsg, a calibration file for bags without CameraInfo or tf; per-
+// point times are decoded but not yet used to deskew.
 
 #include <filesystem>
 #include <memory>
