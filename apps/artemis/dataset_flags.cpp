@@ -42,6 +42,9 @@ void DatasetFlags::addTo(CLI::App& app, bool with_poses, bool poses_none) {
   app.add_option("--imu-topic", bag_topics.imu, "ROS bag: the sensor_msgs/Imu topic, when the bag has several");
   app.add_option("--odom-topic", bag_topics.odometry,
                  "ROS bag: the nav_msgs/Odometry topic (the frames' poses), when the bag has several");
+  app.add_option("--calib", bag_calib,
+                 "ROS bag: the camera's calibration file (YAML: image size, intrinsics, distortion, T_L_C, time "
+                 "offset; see the README), for bags without CameraInfo or a camera transform");
   if (with_poses) {
     const std::string file_help =
         "Replace the recording's poses with this file (one T_W_L per recording frame, 12 numbers a line, "
@@ -67,6 +70,7 @@ Result<std::unique_ptr<datasets::Dataset>> DatasetFlags::open(bool load_images) 
   options.sequence = sequence;
   options.load_images = load_images;
   options.bag_topics = bag_topics;
+  options.bag_calib = bag_calib;
   auto format_id = datasets::parseDatasetFormat(format);
   if (!format_id) return format_id.status();
   const std::filesystem::path where = path.empty() ? defaultDataDir() / "kitti_raw" : std::filesystem::path(path);

@@ -24,6 +24,7 @@ struct DatasetFlags {
   std::string sequence = "00";
   std::string poses;
   datasets::BagTopicRequest bag_topics;  // --lidar-topic, --image-topic, --imu-topic, --odom-topic
+  std::string bag_calib;                 // --calib
 
   // Adds PATH (positional, optional: defaults to $ARTEMIS_DATA_DIR/kitti_raw) and the flags.
   // poses_none: --poses also accepts 'none' (for commands that can find poses themselves).

@@ -11,8 +11,10 @@
 
 #include "artemis/core/log.hpp"
 #include "artemis/datasets/bag_topics.hpp"
+#include "artemis/datasets/camera_calib_file.hpp"
 #include "artemis/datasets/compressed_image.hpp"
 #include "artemis/datasets/kitti_calib.hpp"
+#include "artemis/datasets/livox_message.hpp"
 #include "artemis/datasets/ros_messages.hpp"
 #include "artemis/datasets/rosbag_file.hpp"
 #include "artemis/datasets/undistortion.hpp"
@@ -108,7 +110,7 @@ class RosbagDataset final : public Dataset {
     const std::string& topic = choice_.lidar.topic;
     auto bytes = reader_->read(topic, bag_ns_[index]);
     if (!bytes) return bytes.status();
-    auto cloud = ros::decodePointCloud2(*bytes);
+    auto cloud = livox_ ? ros::decodeLivoxCustomMsg(*bytes) : ros::decodePointCloud2(*bytes);
     if (!cloud)
       return parseError(fmt::format("{}: {} message {}: {}", root().string(), topic, index, cloud.status().message()));
     Frame frame;
@@ -126,7 +128,9 @@ class RosbagDataset final : public Dataset {
  private:
   RosbagDataset(const DatasetOptions& options, std::unique_ptr<BagReader> reader, BagTopicChoice choice,
                 BagSummary summary)
-      : Dataset(options), reader_(std::move(reader)), choice_(std::move(choice)), summary_(std::move(summary)) {}
+      : Dataset(options), reader_(std::move(reader)), choice_(std::move(choice)), summary_(std::move(summary)) {
+    livox_ = bagTypeOf(choice_.lidar.topic) != "sensor_msgs/PointCloud2";
+  }
 
   // One pass over the LiDAR's, the odometry's and the static transforms' messages: the frames'
   // stamps, and their poses when there is odometry.
@@ -137,7 +141,13 @@ class RosbagDataset final : public Dataset {
     const std::string& image_topic = choice_.image.topic;
     const std::string& info_topic = choice_.camera_info.topic;
     if (!image_topic.empty()) topics.push_back(image_topic);
-    if (!image_topic.empty() && !info_topic.empty()) topics.push_back(info_topic);
+    std::optional<CameraCalibFile> calib;
+    if (!options().bag_calib.empty()) {
+      auto file = readCameraCalibFile(options().bag_calib);
+      if (!file) return file.status();
+      calib = std::move(file.value());
+    }
+    if (!image_topic.empty() && !info_topic.empty() && !calib) topics.push_back(info_topic);
     std::vector<std::pair<double, std::int64_t>> images;  // header stamp, bag time
     std::string image_frame;
     std::optional<ros::CameraInfo> info;
@@ -181,7 +191,10 @@ class RosbagDataset final : public Dataset {
       if (Status s = posesFromOdometry(odometry, odometry_child, frames); !s.isOk()) return s;
     }
     if (!image_topic.empty()) {
-      if (Status s = loadCamera(images, image_frame, info, frames); !s.isOk()) return s;
+      if (Status s = loadCamera(images, image_frame, calib ? std::optional(calib->info) : info, frames, calib);
+          !s.isOk()) {
+        return s;
+      }
     }
     return selectRange();
   }
@@ -279,29 +292,39 @@ class RosbagDataset final : public Dataset {
 
   // The camera of the chosen image topic: CameraInfo, the image frame's pose in the LiDAR's, and
   // every image's stamp (`images`: header stamp, bag time, frame id of each image message).
-  Status loadCamera(const std::vector<std::pair<double, std::int64_t>>& images, const std::string& image_frame,
-                    const std::optional<ros::CameraInfo>& info, const StaticFrames& frames) {
+  // With a calibration file, its intrinsics, pose and time offset replace the bag's.
+  Status loadCamera(std::vector<std::pair<double, std::int64_t>> images, const std::string& image_frame,
+                    const std::optional<ros::CameraInfo>& info, const StaticFrames& frames,
+                    const std::optional<CameraCalibFile>& calib) {
     const std::string& topic = choice_.image.topic;
     const auto off = [&](const std::string& why) {
       return invalidArgument(fmt::format("{}: the camera {} {}; --image-topic none maps the bag without images",
                                          root().string(), topic, why));
     };
     if (images.empty()) return off("holds no message");
-    if (!info) return off("has no sensor_msgs/CameraInfo beside it (" + choice_.camera_info.why + ")");
+    if (!info) {
+      return off("has no sensor_msgs/CameraInfo beside it (" + choice_.camera_info.why + "); --calib FILE gives one");
+    }
     auto undistortion = Undistortion::fromCameraInfo(*info);
     if (!undistortion) return off("cannot be calibrated: " + undistortion.status().message());
-    const auto T_L_C = frames.find(lidar_frame_, image_frame);
+    const auto T_L_C = calib ? std::optional(calib->T_L_C) : frames.find(lidar_frame_, image_frame);
     if (!T_L_C) {
-      return off(fmt::format("is of frame \"{}\", which no /tf_static transform links to the LiDAR's \"{}\"",
-                             image_frame, lidar_frame_));
+      return off(fmt::format(
+          "is of frame \"{}\", which no /tf_static transform links to the LiDAR's \"{}\"; --calib FILE gives the pose",
+          image_frame, lidar_frame_));
     }
+    if (calib) {
+      for (auto& image : images) image.first += calib->time_offset_s;
+    }
+    // Image stamps in time order (a bag holds them in receipt order).
+    std::stable_sort(images.begin(), images.end());
     Camera camera;
     camera.view.name = topic;
     camera.view.camera = undistortion->camera();
     // P's fourth column: a stereo camera's offset in the rectified frame of the first (zero for a
     // single camera); as KITTI's P2, it moves the camera within the frame its transform names.
     camera.view.T_L_C = *T_L_C;
-    if (undistortion->identity() && info->P[0] > 0.0) {
+    if (!calib && undistortion->identity() && info->P[0] > 0.0) {
       auto view = cameraFromProjection(topic, info->P, T_L_C->inverse(), info->width, info->height);
       if (!view) return off("cannot be calibrated: P: " + view.status().message());
       camera.view.T_L_C = view->T_L_C;
@@ -312,15 +335,13 @@ class RosbagDataset final : public Dataset {
       camera.stamps_s.push_back(stamp);
       camera.bag_ns.push_back(ns);
     }
-    if (!std::is_sorted(camera.stamps_s.begin(), camera.stamps_s.end())) {
-      return off("has header stamps out of order");
-    }
     if (stamps_s_.size() > 1) {
       camera.tolerance_s = 0.5 * (stamps_s_.back() - stamps_s_.front()) / static_cast<double>(stamps_s_.size() - 1);
     }
     camera_ = std::move(camera);
-    log::info("{}: camera {} ({}x{}, {}), frame \"{}\"", root().string(), topic, info->width, info->height,
-              camera_->undistortion->identity() ? "rectified" : info->distortion_model + " undistorted", image_frame);
+    log::info("{}: camera {} ({}x{}, {}), {}", root().string(), topic, info->width, info->height,
+              camera_->undistortion->identity() ? "rectified" : info->distortion_model + " undistorted",
+              calib ? "calibrated by " + calib->path.string() : "frame \"" + image_frame + "\"");
     return Status::ok();
   }
 
@@ -333,6 +354,7 @@ class RosbagDataset final : public Dataset {
   BagTopicChoice choice_;
   std::vector<std::int64_t> bag_ns_;  // per frame: its message's bag time
   BagSummary summary_;
+  bool livox_ = false;  // the LiDAR topic holds Livox CustomMsg
   std::string lidar_frame_;
   std::optional<Camera> camera_;
 };

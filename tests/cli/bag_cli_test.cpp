@@ -3,14 +3,18 @@
 // lacks and for a file that is not a bag), and `run FILE.bag` on a simulated street written as a
 // bag, which must give the mesh of the same street read from its KITTI layout.
 
+#include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
 
+#include "artemis/datasets/kitti_files.hpp"
 #include "artemis/datasets/pose_file.hpp"
 #include "artemis/io/ply.hpp"
 #include "cli_run.hpp"
@@ -128,6 +132,30 @@ TEST(CliBag, RunOnABagMapsWhatTheRecordingItWasMadeFromMaps) {
   EXPECT_EQ(unposed.exit_code, 1);
   EXPECT_NE(unposed.err.find("which no /tf_static transform links to the LiDAR's"), std::string::npos) << unposed.err;
   EXPECT_NE(unposed.err.find("--image-topic none"), std::string::npos) << unposed.err;
+
+  // A calibration file gives the camera what the bag lacks: calib.txt's P2 and Tr, written out.
+  auto kitti_calib = datasets::CalibFile::read(tmp / "sim/sequences/00/calib.txt");
+  ASSERT_TRUE(kitti_calib);
+  const auto P2 = *kitti_calib->numbers("P2", 12);
+  const auto Tr = *isometryFromRowMajor3x4(*kitti_calib->numbers("Tr", 12));
+  const Eigen::Matrix4d T_L_C = Tr.inverse().matrix();
+  std::vector<double> rows;  // row-major 3x4
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 4; ++c) rows.push_back(T_L_C(r, c));
+  }
+  std::ofstream(tmp / "camera.yaml") << fmt::format(
+      "image_width: 1242\nimage_height: 375\nintrinsics: [{}, {}, {}, {}]\ndistortion_model: none\n"
+      "distortion: []\nT_L_C: [{}]\n",
+      P2[0], P2[5], P2[2], P2[6], fmt::join(rows, ", "));
+  const auto calibrated = test::runCli("run " + (tmp / "no_tf.bag").string() + " --odom-topic none --calib " +
+                                       (tmp / "camera.yaml").string() + " --out " + (tmp / "z").string());
+  ASSERT_EQ(calibrated.exit_code, 0) << calibrated.err;
+  EXPECT_NE(calibrated.err.find("calibrated by " + (tmp / "camera.yaml").string()), std::string::npos)
+      << calibrated.err;
+  const auto coloured_mesh = io::readPly(tmp / "z/mesh.ply");
+  ASSERT_TRUE(coloured_mesh);
+  const auto red = *coloured_mesh->scalarAs<int>("vertex", "red");
+  EXPECT_GT(std::count_if(red.begin(), red.end(), [](int r) { return r != 0; }), static_cast<long>(red.size() / 4));
 }
 
 }  // namespace

@@ -41,6 +41,7 @@ struct DatasetOptions {
   bool load_images = true;
   std::string sequence = "00";  // KITTI odometry: which sequences/NN to read when given the root
   BagTopicRequest bag_topics;   // ROS bags: the topics named by the user (bag_topics.hpp)
+  std::string bag_calib;        // ROS bags: a camera calibration file (camera_calib_file.hpp), or empty
 };
 
 class Dataset {
