@@ -40,13 +40,14 @@ test-release:
 # The sanitizer pass leaves out the long scoring runs (hundreds of frames through the whole pipeline,
 # ten to twenty times slower under ASan, together over half an hour on 2 cores), the tests that
 # kill runs, simulations, exports and evaluations (a run stopped with Ctrl-C and resumed stays, for the
-# checkpoint's writing and reading under the sanitizers), and the tests that run the pipeline once more
+# checkpoint's writing and reading under the sanitizers; a bag's run compared with its KITTI layout's
+# goes, RosbagDataset.* reads a bag's frames, poses and images under them), and the tests that run the pipeline once more
 # over a path another test under ASan already runs (a second render, delayed texture views, GPS
 # poses, vehicle boxes, mapper settings at their limits, traffic scoring):
 # the Release pass runs and asserts them all, and the same code runs under the sanitizers in the
 # shorter pipeline, CLI and module tests. This keeps `make test` within CI's half hour on 2 cores.
 SLOW_TESTS := ^(SimSemantics\.FusionBeatsPerFrameMasksAndLosesNothingOnExactMasks|SimReconstruction\.StreetMeshMatchesTheGroundTruthSurface|KittiReconstruction\..*|RunFolder\..*|KilledWrites\..*
-SLOW_TESTS := $(SLOW_TESTS)|CliResume\.KilledAtARandomMomentItResumesToTheSameFiles
+SLOW_TESTS := $(SLOW_TESTS)|CliResume\.KilledAtARandomMomentItResumesToTheSameFiles|CliBag\.RunOnABagMapsWhatTheRecordingItWasMadeFromMaps
 SLOW_TESTS := $(SLOW_TESTS)|RenderCli\.(ExportsOpenWithTheirProperties|CarHighlightCoversTheCarsAndLittleElse)
 SLOW_TESTS := $(SLOW_TESTS)|Hardening\.EveryMapperSettingIsCheckedAtAndBeyondBothEnds
 SLOW_TESTS := $(SLOW_TESTS)|RunTexture\.DelayedViewsColourWhatLaterScansMeshed|RunPipeline\.EachTexturedViewIsRevisitedOnceAndHeldOutViewsNever

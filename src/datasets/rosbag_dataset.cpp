@@ -116,11 +116,6 @@ class RosbagDataset final : public Dataset {
     Frame frame;
     frame.scan_path = fmt::format("{}:{}#{}", root().string(), topic, index);
     frame.points_L = std::move(cloud->points);
-    if (!cloud->time_s.empty()) {
-      const auto [lo, hi] = std::minmax_element(cloud->time_s.begin(), cloud->time_s.end());
-      frame.scan_start_s = stamps_s_[index] + *lo;
-      frame.scan_end_s = stamps_s_[index] + *hi;
-    }
     if (camera_) frame.cameras.push_back(cameraOf(index, frame.stats));
     return frame;
   }

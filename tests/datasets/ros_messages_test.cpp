@@ -73,10 +73,13 @@ TEST(RosMessages, EveryTypeDecodesToWhatTheWriterSet) {
 
   auto tf = ros::decodeTfMessage(first["/tf_static"]);
   ASSERT_TRUE(tf) << tf.status().message();
-  ASSERT_EQ(tf->size(), 1U);
+  ASSERT_EQ(tf->size(), 2U);
   EXPECT_EQ((*tf)[0].header.frame_id, "base_link");
   EXPECT_EQ((*tf)[0].child_frame_id, "velodyne");
   EXPECT_DOUBLE_EQ((*tf)[0].T_parent_child.translation().z(), 1.7);
+  EXPECT_EQ((*tf)[1].child_frame_id, "camera");
+  // The camera looks along the LiDAR's x.
+  EXPECT_TRUE(((*tf)[1].T_parent_child.linear() * Eigen::Vector3d::UnitZ()).isApprox(Eigen::Vector3d::UnitX(), 1e-12));
 }
 
 TEST(RosMessages, DamagedOrUnsupportedMessagesAreErrorsNamingTheField) {
