@@ -49,6 +49,14 @@ Result<RunRecording> readRunRecording(const fs::path& path) {
     const fs::path dataset_path(out.path);
     if (dataset_path.parent_path().filename() == "sequences") out.sequence = dataset_path.filename().string();
   }
+  if (d.contains("bag") && d["bag"].is_object()) {
+    const auto& bag = d["bag"];
+    const auto text = [&](const char* key) {
+      return bag.contains(key) && bag[key].is_string() ? bag[key].get<std::string>() : std::string();
+    };
+    out.bag_topics = {text("lidar_topic"), text("image_topic"), text("imu_topic"), text("odom_topic")};
+    out.bag_calib = text("calib");
+  }
   if (j->contains("texture") && (*j)["texture"].is_object() && (*j)["texture"].contains("holdout") &&
       (*j)["texture"]["holdout"].is_number_integer()) {
     out.texture_holdout = (*j)["texture"]["holdout"].get<int>();
@@ -75,6 +83,8 @@ Result<RunDataset> openRunDataset(const fs::path& run, const std::string& datase
   options.frames = recording->frames;
   options.vertical_angle_correction = recording->vertical_correction;
   if (!recording->sequence.empty()) options.sequence = recording->sequence;
+  options.bag_topics = recording->bag_topics;
+  options.bag_calib = recording->bag_calib;
   const std::string path = dataset_override.empty() ? recording->path : dataset_override;
   if (path.empty())
     return parseError(fmt::format("{}: no dataset.path; give --dataset", (run / "config.json").string()));

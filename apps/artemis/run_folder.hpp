@@ -23,6 +23,8 @@ struct RunRecording {
   bool vertical_correction = false;
   std::string sequence;  // "NN" when the run read a sequences/NN folder
   int texture_holdout = 0;
+  datasets::BagTopicRequest bag_topics;  // a bag's topics as the run named them
+  std::string bag_calib;                 // a bag's camera calibration file, or empty
 };
 Result<RunRecording> readRunRecording(const std::filesystem::path& config_json);
 

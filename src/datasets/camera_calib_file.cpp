@@ -63,7 +63,9 @@ Result<CameraCalibFile> readCameraCalibFile(const std::filesystem::path& path) {
     entries[key] = {n, trimmed(line.substr(colon + 1))};
   }
   for (const std::string& key : kKeys) {
-    if (key != "time_offset_s" && !entries.contains(key)) return fail(0, "no " + key);
+    if (key != "time_offset_s" && !entries.contains(key)) {
+      return parseError(fmt::format("{}: no {} (see the README's camera calibration file)", path.string(), key));
+    }
   }
   const auto scalar = [&](const std::string& key) -> Result<double> {
     const Entry& e = entries.at(key);

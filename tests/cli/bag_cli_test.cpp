@@ -182,6 +182,16 @@ TEST(CliBag, RunOnABagMapsWhatTheRecordingItWasMadeFromMaps) {
   ASSERT_TRUE(coloured_mesh);
   const auto red = *coloured_mesh->scalarAs<int>("vertex", "red");
   EXPECT_GT(std::count_if(red.begin(), red.end(), [](int r) { return r != 0; }), static_cast<long>(red.size() / 4));
+  // config.json keeps the bag's choices, so that the run's evaluations open the bag as it did
+  // (without them, this bag's odometry would be refused).
+  const auto z_config = nlohmann::json::parse(test::slurp(tmp / "z/config.json"));
+  EXPECT_EQ(z_config["dataset"]["bag"]["odom_topic"], "none");
+  EXPECT_EQ(z_config["dataset"]["bag"]["calib"], (tmp / "camera.yaml").string());
+  const auto rays = test::runCli("eval rays " + (tmp / "z").string() + " --every 3 --returns 2000");
+  EXPECT_EQ(rays.exit_code, 0) << rays.err;
+  const auto picture = test::runCli("render " + (tmp / "z").string() + " --pose 3 -o " + (tmp / "z.png").string());
+  EXPECT_EQ(picture.exit_code, 0) << picture.err;
+  EXPECT_TRUE(std::filesystem::exists(tmp / "z.png"));
 }
 
 }  // namespace
