@@ -112,7 +112,7 @@ TEST(CliBag, RunOnABagMapsWhatTheRecordingItWasMadeFromMaps) {
     for (std::size_t i = 0; i < a.size(); ++i) same_place[i] = same_place[i] && a[i] == b[i];
   }
   const auto places = static_cast<std::size_t>(std::count(same_place.begin(), same_place.end(), true));
-  EXPECT_GT(places, same_place.size() / 2);
+  EXPECT_GT(places, same_place.size() * 995 / 1000);  // 219 of 195,541 moved by 2 um on a 12-frame street
   std::size_t coloured = 0;
   std::size_t off_by_more_than_one = 0;
   for (const char* channel : {"red", "green", "blue"}) {

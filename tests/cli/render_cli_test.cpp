@@ -24,7 +24,7 @@ class RenderCli : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
     tmp_ = new test::TempDir;
-    const auto sim = runCli("sim --preset demo --frames 12 --out " + (*tmp_ / "sim").string());
+    const auto sim = runCli("sim --preset demo --frames 12 --azimuth-step 0.36 --out " + (*tmp_ / "sim").string());
     ASSERT_EQ(sim.exit_code, 0) << sim.err;
     const auto run =
         runCli("run " + (*tmp_ / "sim").string() + " --query car --segmenter sim --out " + (*tmp_ / "run").string());
