@@ -30,8 +30,11 @@ Eigen::Vector2d distortEquidistant(const std::vector<double>& D, double x, doubl
 
 Result<Undistortion> Undistortion::fromCameraInfo(const ros::CameraInfo& info) {
   const auto bad = [&](const std::string& why) { return parseError("sensor_msgs/CameraInfo: " + why); };
-  if (info.width <= 0 || info.height <= 0) {
-    return bad("image size " + std::to_string(info.width) + "x" + std::to_string(info.height));
+  // As every image the project reads: at most 2^26 pixels (the remap table is 8 bytes a pixel).
+  constexpr long long kMaxPixels = 1LL << 26;
+  if (info.width <= 0 || info.height <= 0 || static_cast<long long>(info.width) * info.height > kMaxPixels) {
+    return bad("image size " + std::to_string(info.width) + "x" + std::to_string(info.height) +
+               " (1 to 2^26 pixels)");
   }
   const bool zero = std::all_of(info.D.begin(), info.D.end(), [](double d) { return d == 0.0; });
   const bool radtan = info.distortion_model == "plumb_bob" || info.distortion_model == "rational_polynomial";

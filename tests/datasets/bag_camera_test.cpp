@@ -137,6 +137,10 @@ TEST(BagCamera, RectifiedImagesKeepPAndBadCalibrationsAreRefused) {
   ros::CameraInfo empty = aviaCamera();
   empty.width = 0;
   refused(empty, "image size");
+  ros::CameraInfo huge = aviaCamera();  // a lying CameraInfo must not allocate a 16 GB remap table
+  huge.width = 65536;
+  huge.height = 32768;
+  refused(huge, "image size 65536x32768");
 }
 
 void appendBytes(void* context, void* data, int size) {
