@@ -21,7 +21,7 @@ trap 'rm -rf "$work"' EXIT
 
 targets=(fuzz_velodyne_scan fuzz_kitti_calib fuzz_kitti_oxts fuzz_kitti_poses fuzz_kitti_timestamps
          fuzz_semantic_labels fuzz_kitti_boxes fuzz_ply fuzz_png fuzz_mask_json fuzz_vocabulary
-         fuzz_alias_table fuzz_dense_model fuzz_sim_config fuzz_run_config)
+         fuzz_alias_table fuzz_dense_model fuzz_sim_config fuzz_run_config fuzz_ros_messages fuzz_camera_calib)
 for t in "${targets[@]}"; do rm -rf "${out:?}/$t"; mkdir -p "$out/$t"; done
 
 # seed TARGET NAME FILE [BYTES]: FILE (its first BYTES bytes) as seed NAME of TARGET, if it exists.
@@ -224,6 +224,46 @@ text fuzz_run_config config_all.json <<'EOF'
 EOF
 text fuzz_run_config config_single.json <<'EOF'
 {"dataset": {"frames": "7"}}
+EOF
+
+# --- ROS bags ------------------------------------------------------------------------------------
+# The first message of each topic of the tests' bag (Debian's python3-rosbag writes it), when that
+# Python is there; and hand-written ones.
+if /usr/bin/python3 -c "import rosbag, sensor_msgs.msg, nav_msgs.msg, tf2_msgs.msg" 2>/dev/null; then
+  /usr/bin/python3 "$root/tests/datasets/write_test_bag.py" "$work/seed.bag" none
+  /usr/bin/python3 - "$work/seed.bag" "$out/fuzz_ros_messages" <<'PY'
+import sys
+import rosbag
+seen = set()
+for topic, raw, _ in rosbag.Bag(sys.argv[1]).read_messages(raw=True):
+    if topic not in seen:
+        seen.add(topic)
+        open(sys.argv[2] + "/" + topic.strip("/").replace("/", "_") + ".msg", "wb").write(raw[1])
+PY
+else
+  echo "make_corpus: /usr/bin/python3 cannot import rosbag (bag message seeds skipped)" >&2
+fi
+# A Livox CustomMsg: header (seq 7, 1000.5 s, frame "livox"), timebase, one point at (10, -1, 0.5).
+printf '\x07\x00\x00\x00\xe8\x03\x00\x00\x00\x65\xcd\x1d\x05\x00\x00\x00livox\x00\xe1\xf5\x05\xe9\x00\x00\x00\x01\x00\x00\x00\x01\x00\x00\x00\x01\x00\x00\x00\x00\x00\x00\x00\x00\x00\x20\x41\x00\x00\x80\xbf\x00\x00\x00\x3f\x28\x00\x01' \
+  >"$out/fuzz_ros_messages/livox_custom.msg"
+text fuzz_camera_calib avia.yaml <<'EOF'
+# the public Livox Avia + camera rig
+image_width: 1280
+image_height: 1024
+intrinsics: [1293.56944, 1293.3155, 626.91359, 522.799224]
+distortion_model: radtan
+distortion: [-0.0761587, 0.123001, -0.00113433, 0.000251384]
+T_L_C: [0, 0, 1, 0.05, -1, 0, 0, 0.02, 0, -1, 0, -0.03]
+time_offset_s: -0.1
+EOF
+text fuzz_camera_calib fisheye_4x4.yaml <<'EOF'
+%YAML:1.0
+image_width: 640
+image_height: 480
+intrinsics: [300, 300, 320, 240]
+distortion_model: equidistant
+distortion: [0.1, -0.01, 0.001, 0]
+T_L_C: [1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1]
 EOF
 
 for t in "${targets[@]}"; do

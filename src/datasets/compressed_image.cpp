@@ -19,7 +19,9 @@
 #pragma GCC diagnostic ignored "-Wdouble-promotion"
 #pragma GCC diagnostic ignored "-Wimplicit-fallthrough"
 #pragma GCC diagnostic ignored "-Wmissing-field-initializers"
+#if !defined(__clang__)
 #pragma GCC diagnostic ignored "-Wuseless-cast"
+#endif
 #pragma GCC diagnostic ignored "-Wcast-qual"
 #endif
 #include <stb_image.h>
@@ -30,12 +32,39 @@
 namespace artemis::datasets {
 
 namespace {
+
 constexpr long long kMaxPixels = 1LL << 26;
+
+// Whether every Huffman table (DHT segment) that stb_image could meet in these bytes declares at
+// most 256 codes, as the JPEG standard requires. Debian's stb_image builds each table into an
+// array of 257 without that check, so a damaged or hostile table writes past it (found by
+// fuzz_ros_messages). stb_image skips bytes that are not markers and reads zeros past the end, so
+// every 0xFF (0xFF...) 0xC4 of the input is taken as a table here, with zeros past the end. In a
+// valid JPEG that is no more than its tables: entropy-coded data never holds 0xFF 0xC4.
+bool huffmanTablesFit(std::span<const std::uint8_t> b) {
+  const auto at = [&](std::size_t i) -> std::size_t { return i < b.size() ? b[i] : 0; };
+  for (std::size_t p = 0; p + 1 < b.size(); ++p) {
+    if (b[p] != 0xFF || b[p + 1] != 0xC4) continue;
+    const std::size_t segment = p + 2;  // its length, then tables of a class byte, 16 counts, symbols
+    const std::size_t end = segment + ((at(segment) << 8) | at(segment + 1));
+    for (std::size_t q = segment + 2; q < end && q < b.size();) {
+      std::size_t codes = 0;
+      for (std::size_t i = 1; i <= 16; ++i) codes += at(q + i);
+      if (codes > 256) return false;
+      q += 17 + codes;
+    }
+  }
+  return true;
 }
+
+}  // namespace
 
 Result<ImageU8> decodeCompressedPicture(std::span<const std::uint8_t> bytes, const std::string& what) {
   if (bytes.size() > static_cast<std::size_t>(INT_MAX)) return parseError(what + ": a picture of over 2 GB");
   const auto size = static_cast<int>(bytes.size());
+  if (!huffmanTablesFit(bytes)) {
+    return parseError(what + ": a JPEG Huffman table of more than 256 codes");
+  }
   int width = 0;
   int height = 0;
   int channels = 0;

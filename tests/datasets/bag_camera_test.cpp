@@ -183,6 +183,14 @@ TEST(BagCamera, CompressedPicturesDecodeAndGarbageIsAnError) {
   ASSERT_FALSE(bad);
   EXPECT_NE(bad.status().message().find("bag.bag: /camera message 3: not a JPEG or PNG"), std::string::npos)
       << bad.status().message();
+  // A Huffman table of 512 codes (the standard allows 256), which Debian's stb_image would build
+  // past the end of its table: refused before stb_image sees it.
+  std::vector<std::uint8_t> hostile = {0xFF, 0xD8, 0xFF, 0xC4, 0x00, 0x13, 0x00};
+  hostile.insert(hostile.end(), 16, 0x20);
+  const auto huffman = decodeCompressedPicture(hostile, "hostile");
+  ASSERT_FALSE(huffman);
+  EXPECT_NE(huffman.status().message().find("Huffman table of more than 256 codes"), std::string::npos)
+      << huffman.status().message();
   const auto cut = decodeCompressedPicture(std::span(jpeg.data(), jpeg.size() / 3), "cut");
   EXPECT_FALSE(cut && cut->width() == 40 && cut->data() == decoded->data());
 }
