@@ -46,7 +46,7 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
   }
   // The remap table is worked out for every pixel: up to 2^26 of them (seconds), which a real
   // camera may need once per run but a fuzzing run cannot wait for (the first finding in
-  // fuzz/findings/fuzz_ros_messages/ is such a CameraInfo, 13.8 megapixels wide).
+  // fuzz/findings/fuzz_ros_messages/ is such a CameraInfo, 13,762,819 pixels wide).
   constexpr long long kMaxFuzzPixels = 1 << 16;
   if (auto info = ros::decodeCameraInfo(bytes);
       accepted(info) && static_cast<long long>(info->width) * info->height <= kMaxFuzzPixels) {
