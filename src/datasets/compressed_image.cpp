@@ -42,6 +42,11 @@ constexpr long long kMaxPixels = 1LL << 26;
 // every 0xFF (0xFF...) 0xC4 of the input is taken as a table here, with zeros past the end. In a
 // valid JPEG that is no more than its tables: entropy-coded data never holds 0xFF 0xC4.
 bool huffmanTablesFit(std::span<const std::uint8_t> b) {
+  // Only what stb_image takes for a JPEG: its start of image, 0xFF, any fill bytes, 0xD8. (A PNG's
+  // compressed data may well hold 0xFF 0xC4.)
+  std::size_t start = 0;
+  while (start < b.size() && b[start] == 0xFF) ++start;
+  if (start == 0 || start >= b.size() || b[start] != 0xD8) return true;
   const auto at = [&](std::size_t i) -> std::size_t { return i < b.size() ? b[i] : 0; };
   for (std::size_t p = 0; p + 1 < b.size(); ++p) {
     if (b[p] != 0xFF || b[p + 1] != 0xC4) continue;

@@ -191,6 +191,12 @@ TEST(BagCamera, CompressedPicturesDecodeAndGarbageIsAnError) {
   ASSERT_FALSE(huffman);
   EXPECT_NE(huffman.status().message().find("Huffman table of more than 256 codes"), std::string::npos)
       << huffman.status().message();
+  // ... and only in a JPEG: a PNG may hold those bytes (here after its end) and still decodes.
+  std::vector<std::uint8_t> png_with_tail = png;
+  png_with_tail.insert(png_with_tail.end(), hostile.begin(), hostile.end());
+  const auto tail = decodeCompressedPicture(png_with_tail, "png with a tail");
+  ASSERT_TRUE(tail) << tail.status().message();
+  EXPECT_TRUE(tail->data() == picture.data());
   const auto cut = decodeCompressedPicture(std::span(jpeg.data(), jpeg.size() / 3), "cut");
   EXPECT_FALSE(cut && cut->width() == 40 && cut->data() == decoded->data());
 }
