@@ -6,9 +6,10 @@
 // in anew, page by page. A page fault costs 0.1-0.3 us on bare metal but about 15 us in some
 // virtual machines (measured here: 14.5 us a 4 KiB page), where KITTI frames took 17 ms more for it.
 //
-// So `artemis` and the benchmarks start with three glibc malloc tunables (GLIBC_TUNABLES, read by
+// So `artemis run` and the benchmarks start with three glibc malloc tunables (GLIBC_TUNABLES, read by
 // glibc only at process start, hence a re-execution of the same program with the same arguments
-// and process id):
+// and process id; other commands are not worth a second start, which loads the program's
+// libraries again: about 100 ms on a busy 2-core machine):
 //   glibc.malloc.hugetlb=1            transparent huge pages for the heap (one fault per 2 MiB
 //                                     where the system allows them on request, "madvise");
 //   glibc.malloc.mmap_threshold=32 MiB  buffers up to 32 MiB come from the heap, not the kernel;
