@@ -4,7 +4,8 @@
 // are made and freed. With glibc's defaults, buffers above 128 KiB to 32 MiB are mapped from the
 // kernel and unmapped again on free, and the heap is trimmed back: each frame faults its buffers
 // in anew, page by page. A page fault costs 0.1-0.3 us on bare metal but about 15 us in some
-// virtual machines (measured here: 14.5 us a 4 KiB page), where KITTI frames took 17 ms more for it.
+// virtual machines (measured here: 14.5 us a 4 KiB page), where a KITTI frame took 10-30 ms more
+// for it (median).
 //
 // So `artemis run` and the benchmarks start with three glibc malloc tunables (GLIBC_TUNABLES, read by
 // glibc only at process start, hence a re-execution of the same program with the same arguments
