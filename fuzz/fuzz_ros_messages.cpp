@@ -1,6 +1,8 @@
 // ROS 1 messages as a bag holds them (serialized bytes): every decoder a bag run uses, on the same
 // input, and what a run does next with what they accept (a CameraInfo's remap table, a
 // CompressedImage's picture).
+#include <cmath>
+
 #include "artemis/datasets/compressed_image.hpp"
 #include "artemis/datasets/livox_message.hpp"
 #include "artemis/datasets/ros_messages.hpp"
@@ -58,6 +60,12 @@ extern "C" int LLVMFuzzerTestOneInput(const std::uint8_t* data, std::size_t size
     }
   }
   accepted(ros::decodeOdometry(bytes));
+  if (auto imu = ros::decodeImu(bytes); accepted(imu)) {
+    if (!imu->angular_velocity.allFinite() || !imu->linear_acceleration.allFinite() ||
+        std::abs(imu->orientation.norm() - 1.0) > 1e-6) {
+      artemis::fuzz::invariantBroken("decodeImu", "a rate, acceleration or orientation that is not a number");
+    }
+  }
   accepted(ros::decodeTfMessage(bytes));
   return 0;
 }

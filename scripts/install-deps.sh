@@ -16,8 +16,9 @@ packages=(
   nlohmann-json3-dev libcpp-httplib-dev wordnet-dev wordnet-base
   # the dense segmenter: OpenCV's dnn and imgproc modules only (not the full libopencv-dev)
   libopencv-dnn-dev libopencv-imgproc-dev
-  # ROS 1 bags without ROS: Debian's rosbag_storage library (bz2 and lz4 chunks)
-  librosbag-storage-dev
+  # ROS 1 bags without ROS: Debian's rosbag_storage library (bz2 and lz4 chunks), and the message
+  # packages' generated C++ types for writing bags that any ROS tool reads
+  librosbag-storage-dev libsensor-msgs-dev libnav-msgs-dev libtf2-msgs-dev libgeometry-msgs-dev
   # tests and benchmarks
   libgtest-dev libgmock-dev libbenchmark-dev
   # interoperability checks (tests load our files with Open3D, and write ROS bags with Debian's

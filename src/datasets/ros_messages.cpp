@@ -286,6 +286,35 @@ Result<Odometry> decodeOdometry(std::span<const std::uint8_t> data) {
   return out;
 }
 
+Result<Imu> decodeImu(std::span<const std::uint8_t> data) {
+  Reader in(data, "sensor_msgs/Imu");
+  Imu out;
+  out.header = in.header();
+  const auto q = in.doubles<4>("orientation");
+  const auto orientation_covariance = in.doubles<9>("orientation_covariance");
+  const auto w = in.doubles<3>("angular_velocity");
+  in.skip(9 * 8, "angular_velocity_covariance");
+  const auto a = in.doubles<3>("linear_acceleration");
+  in.skip(9 * 8, "linear_acceleration_covariance");
+  if (!in.ok()) return in.status();
+  out.has_orientation = orientation_covariance[0] != -1.0;
+  const Eigen::Quaterniond rotation(q[3], q[0], q[1], q[2]);
+  if (out.has_orientation) {
+    if (!(rotation.norm() > 1e-9) || !std::isfinite(rotation.norm())) {
+      return parseError(
+          "sensor_msgs/Imu: orientation: not a quaternion (an IMU without one sets its covariance "
+          "to -1)");
+    }
+    out.orientation = rotation.normalized();
+  }
+  out.angular_velocity = Eigen::Vector3d(w[0], w[1], w[2]);
+  out.linear_acceleration = Eigen::Vector3d(a[0], a[1], a[2]);
+  if (!out.angular_velocity.allFinite() || !out.linear_acceleration.allFinite()) {
+    return parseError("sensor_msgs/Imu: a rate or an acceleration that is not a number");
+  }
+  return out;
+}
+
 Result<std::vector<Transform>> decodeTfMessage(std::span<const std::uint8_t> data) {
   Reader in(data, "tf2_msgs/TFMessage");
   std::vector<Transform> out(in.count("transforms", 4 * 4 + 4 + 7 * 8));

@@ -1,5 +1,6 @@
 #include "support/test_bag.hpp"
 
+#include <cstdio>
 #include <cstdlib>
 
 namespace artemis::test {
@@ -25,6 +26,17 @@ std::filesystem::path writeTestBag(const std::filesystem::path& dir, const std::
     return {};
   }
   return bag;
+}
+
+std::string readBagWithPython(const std::filesystem::path& bag) {
+  const std::string cmd =
+      std::string(kPython) + " " + ARTEMIS_SOURCE_DIR "/tests/datasets/read_bag_check.py " + bag.string();
+  std::FILE* pipe = ::popen(cmd.c_str(), "r");
+  if (pipe == nullptr) return {};
+  std::string out;
+  char buffer[4096];
+  for (std::size_t n; (n = std::fread(buffer, 1, sizeof buffer, pipe)) > 0;) out.append(buffer, n);
+  return ::pclose(pipe) == 0 ? out : std::string();
 }
 
 }  // namespace artemis::test

@@ -12,6 +12,10 @@ namespace artemis::test {
 // path and says why in `why`.
 std::filesystem::path writeTestBag(const std::filesystem::path& dir, const std::string& compression, std::string& why);
 
+// What Debian's python3-rosbag reads in `bag` (tests/datasets/read_bag_check.py: per topic, its type,
+// count, first stamp and a few values of its first message), as JSON text; empty when it fails.
+std::string readBagWithPython(const std::filesystem::path& bag);
+
 }  // namespace artemis::test
 
 // Declares `var`, the test bag written into `dir`; skips the test (fails it under CI=true) when

@@ -11,6 +11,8 @@
 #include <string>
 #include <vector>
 
+#include <Eigen/Geometry>
+
 #include "artemis/core/image.hpp"
 #include "artemis/core/point_cloud.hpp"
 #include "artemis/core/status.hpp"
@@ -76,6 +78,18 @@ struct Odometry {
   Isometry3d pose = Isometry3d::Identity();
 };
 Result<Odometry> decodeOdometry(std::span<const std::uint8_t> data);
+
+// sensor_msgs/Imu: angular velocity (rad/s) and linear acceleration (m/s^2, gravity included, as an
+// accelerometer reads it) in header.frame_id; the orientation when the driver gives one (REP 145:
+// an orientation covariance starting with -1 says it does not). Covariances are skipped.
+struct Imu {
+  Header header;
+  bool has_orientation = true;
+  Eigen::Quaterniond orientation = Eigen::Quaterniond::Identity();
+  Eigen::Vector3d angular_velocity = Eigen::Vector3d::Zero();
+  Eigen::Vector3d linear_acceleration = Eigen::Vector3d::Zero();
+};
+Result<Imu> decodeImu(std::span<const std::uint8_t> data);
 
 // tf2_msgs/TFMessage: transforms of child frames into their parents (T_parent_child).
 struct Transform {
