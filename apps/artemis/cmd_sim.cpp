@@ -1,4 +1,5 @@
-// artemis sim: a synthetic street with exact ground truth, written in KITTI odometry's layout.
+// artemis sim: a synthetic street with exact ground truth, written in KITTI odometry's layout or as
+// a ROS 1 bag.
 #include <fmt/format.h>
 
 #include <algorithm>
@@ -11,6 +12,7 @@
 #include "artemis/core/timer.hpp"
 #include "artemis/io/read_file.hpp"
 #include "artemis/pipeline/output_folder.hpp"
+#include "artemis/sim/bag_sequence.hpp"
 #include "artemis/sim/writer.hpp"
 #include "commands.hpp"
 #include "flag_checks.hpp"
@@ -33,6 +35,8 @@ struct SimFlags {
   std::optional<double> azimuth_step_deg;
   std::optional<double> exposure_variation;
   std::optional<std::string> traffic;
+  std::string format = "kitti";
+  sim::BagOptions bag;
   bool force = false;
   bool json = false;
 };
@@ -78,7 +82,8 @@ Result<sim::SimParams> effectiveParams(const SimFlags& flags) {
 Result<pipeline::OutputFolder> prepareOutput(const fs::path& out, bool force) {
   if (Status s = pipeline::settleOutputFolder(out); !s.isOk()) return s;
   std::error_code ec;
-  const bool has_sequence = fs::exists(out / "sequences", ec) || fs::exists(out / "gt", ec);
+  const bool has_sequence =
+      fs::exists(out / "sequences", ec) || fs::exists(out / "gt", ec) || fs::exists(out / "street.bag", ec);
   if (has_sequence && !force) {
     return invalidArgument(fmt::format("{}: already holds a sequence; pass --force to replace it", out.string()));
   }
@@ -99,9 +104,11 @@ int runSim(const SimFlags& flags) {
   log::info("settings: {}", nlohmann::json::parse(sim::paramsToJson(*params)).dump());
   Stopwatch clock;
   ProgressLine progress("simulating", "frames");
-  auto report = sim::writeSequence(*params, folder->staging(), [&](int done, int total) {
+  const auto on_frame = [&](int done, int total) {
     progress.update(static_cast<std::size_t>(done), static_cast<std::size_t>(total));
-  });
+  };
+  auto report = flags.format == "rosbag" ? sim::writeBagSequence(*params, flags.bag, folder->staging(), on_frame)
+                                         : sim::writeSequence(*params, folder->staging(), on_frame);
   progress.finish();
   if (!report) {
     log::error("{}", report.status().message());
@@ -155,7 +162,14 @@ int runSim(const SimFlags& flags) {
       "time: scene {:.0f} ms; per frame (median) LiDAR {:.0f} ms, camera {:.0f} ms, writing {:.0f} ms; "
       "{:.2f} s per frame in all\n",
       r.scene_ms, median(r.lidar_ms), median(r.camera_ms), median(r.write_ms), total_s / params->frames);
-  fmt::print("written to {} (KITTI odometry layout; read it with `artemis dataset info {}`)\n", flags.out, flags.out);
+  if (flags.format == "rosbag") {
+    const std::string bag = (fs::path(flags.out) / "street.bag").string();
+    fmt::print(
+        "written to {} (a ROS 1 bag; the ground truth beside it in gt/; read it with `artemis dataset info {}`)\n", bag,
+        bag);
+  } else {
+    fmt::print("written to {} (KITTI odometry layout; read it with `artemis dataset info {}`)\n", flags.out, flags.out);
+  }
   return 0;
 }
 
@@ -166,7 +180,7 @@ void addSimCommand(CLI::App& app, int& exit_code) {
   auto* cmd = app.add_subcommand(
       "sim",
       "Simulate a drive down a procedural street: LiDAR scans, camera images and exact ground truth (surface "
-      "mesh, labels, class/instance/depth images), written in KITTI odometry's layout");
+      "mesh, labels, class/instance/depth images), written in KITTI odometry's layout or as a ROS 1 bag");
   cmd->add_option("-o,--out", flags->out, "Output folder")->capture_default_str();
   cmd->add_option("--preset", flags->preset, "street (100 frames) or demo (30 frames)")
       ->capture_default_str()
@@ -190,6 +204,18 @@ void addSimCommand(CLI::App& app, int& exit_code) {
                   "Moving road users: none (default), street (cars both ways, cyclists, people walking and "
                   "crossing) or drive0013 (one car ahead and one behind in the ego lane, as on KITTI's drive 0013)")
       ->check(CLI::IsMember({"none", "street", "drive0013"}));
+  cmd->add_option("--format", flags->format,
+                  "kitti (KITTI odometry's layout) or rosbag (OUT/street.bag: PointCloud2 with per-point time, "
+                  "images, CameraInfo, exact odometry, a 100 Hz IMU and static transforms; the ground truth in OUT/gt)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"kitti", "rosbag"}));
+  cmd->add_option("--bag-compression", flags->bag.compression, "With --format rosbag: chunk compression")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"none", "bz2", "lz4"}));
+  cmd->add_option("--bag-images", flags->bag.images,
+                  "With --format rosbag: png (sensor_msgs/CompressedImage) or raw (sensor_msgs/Image, rgb8)")
+      ->capture_default_str()
+      ->check(CLI::IsMember({"png", "raw"}));
   cmd->add_flag("--force", flags->force, "Replace a sequence already in the output folder");
   cmd->add_flag("--json", flags->json, "Print the class table and timings as one JSON object");
   cmd->callback([flags, &exit_code] { exit_code = runSim(*flags); });

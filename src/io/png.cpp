@@ -52,8 +52,8 @@ bool encode(png_structp png, png_infop info, const PngHeader* header, png_bytep*
 }
 // NOLINTEND(cert-err52-cpp)
 
-Status encodeAndWrite(const std::filesystem::path& path, const PngHeader& header, std::vector<png_bytep>& rows) {
-  const std::string file = path.string();
+Result<std::vector<std::uint8_t>> encodeToMemory(const std::string& name, const PngHeader& header,
+                                                 std::vector<png_bytep>& rows) {
   std::vector<unsigned char> encoded;
   PngContext context;
   context.out = &encoded;
@@ -61,16 +61,21 @@ Status encodeAndWrite(const std::filesystem::path& path, const PngHeader& header
   png_infop info = png != nullptr ? png_create_info_struct(png) : nullptr;
   if (info == nullptr) {
     png_destroy_write_struct(&png, nullptr);
-    return ioError(file + ": cannot create a libpng writer");
+    return ioError(name + ": cannot create a libpng writer");
   }
   png_set_write_fn(png, &context, writeToMemory, flushNothing);
   const bool encoded_ok = encode(png, info, &header, rows.data());
   png_destroy_write_struct(&png, &info);
-  if (!encoded_ok) return ioError(file + ": cannot encode PNG: " + context.message);
+  if (!encoded_ok) return ioError(name + ": cannot encode PNG: " + context.message);
+  return encoded;
+}
 
+Status encodeAndWrite(const std::filesystem::path& path, const PngHeader& header, std::vector<png_bytep>& rows) {
+  auto encoded = encodeToMemory(path.string(), header, rows);
+  if (!encoded) return encoded.status();
   detail::AtomicFile out;
   if (Status status = out.open(path); !status.isOk()) return status;
-  if (Status status = out.write(encoded.data(), encoded.size()); !status.isOk()) return status;
+  if (Status status = out.write(encoded->data(), encoded->size()); !status.isOk()) return status;
   return out.commit();
 }
 
@@ -85,18 +90,36 @@ Status checkWritable(const std::string& file, const Image<T>& image) {
 
 }  // namespace
 
-Status writePng(const std::filesystem::path& path, const ImageU8& image) {
-  if (Status status = checkWritable(path.string(), image); !status.isOk()) return status;
+namespace {
+
+// The rows of an 8-bit image as libpng takes them (its API is not const-correct; it only reads).
+std::vector<png_bytep> rowsOf(const ImageU8& image) {
+  const std::size_t row_bytes = static_cast<std::size_t>(image.width()) * static_cast<std::size_t>(image.channels());
+  auto* data = const_cast<unsigned char*>(image.data().data());
+  std::vector<png_bytep> rows(static_cast<std::size_t>(image.height()));
+  for (std::size_t y = 0; y < rows.size(); ++y) rows[y] = data + y * row_bytes;
+  return rows;
+}
+
+PngHeader headerOf(const ImageU8& image) {
   constexpr int kColorTypes[] = {PNG_COLOR_TYPE_GRAY, PNG_COLOR_TYPE_GRAY_ALPHA, PNG_COLOR_TYPE_RGB,
                                  PNG_COLOR_TYPE_RGBA};
-  const PngHeader header{static_cast<png_uint_32>(image.width()), static_cast<png_uint_32>(image.height()), 8,
-                         kColorTypes[image.channels() - 1]};
-  const std::size_t row_bytes = static_cast<std::size_t>(image.width()) * static_cast<std::size_t>(image.channels());
-  // libpng's API is not const-correct; it only reads the rows.
-  auto* data = const_cast<unsigned char*>(image.data().data());
-  std::vector<png_bytep> rows(header.height);
-  for (std::size_t y = 0; y < rows.size(); ++y) rows[y] = data + y * row_bytes;
-  return encodeAndWrite(path, header, rows);
+  return {static_cast<png_uint_32>(image.width()), static_cast<png_uint_32>(image.height()), 8,
+          kColorTypes[image.channels() - 1]};
+}
+
+}  // namespace
+
+Status writePng(const std::filesystem::path& path, const ImageU8& image) {
+  if (Status status = checkWritable(path.string(), image); !status.isOk()) return status;
+  auto rows = rowsOf(image);
+  return encodeAndWrite(path, headerOf(image), rows);
+}
+
+Result<std::vector<std::uint8_t>> encodePng(const ImageU8& image) {
+  if (Status status = checkWritable("PNG", image); !status.isOk()) return status;
+  auto rows = rowsOf(image);
+  return encodeToMemory("PNG", headerOf(image), rows);
 }
 
 Status writePng(const std::filesystem::path& path, const ImageU16& image) {

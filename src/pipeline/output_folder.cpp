@@ -73,7 +73,7 @@ const std::vector<std::string>& runOutputNames() {
 }
 
 const std::vector<std::string>& simOutputNames() {
-  static const std::vector<std::string> names = {"sequences", "poses", "gt", "preview", "scene.json"};
+  static const std::vector<std::string> names = {"sequences", "poses", "gt", "preview", "scene.json", "street.bag"};
   return names;
 }
 

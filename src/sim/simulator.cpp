@@ -78,9 +78,8 @@ struct MoversAt {
 };
 
 // Nearest hit of the static street and the movers along origin + t d_S, t in [t_near, t_far].
-std::optional<Surface> castRay(const detail::Raycaster& street, const std::vector<Mover>& movers,
-                               const MoversAt& at, const Vector3f& origin, const Vector3f& d_S, float t_near,
-                               float t_far) {
+std::optional<Surface> castRay(const detail::Raycaster& street, const std::vector<Mover>& movers, const MoversAt& at,
+                               const Vector3f& origin, const Vector3f& d_S, float t_near, float t_far) {
   const detail::Hit hit = street.intersect(origin, d_S, t_near, t_far);
   if (at.moment) {
     const detail::MoverHit m = at.moment->intersect(origin, d_S, t_near, hit.valid() ? hit.t : t_far);
@@ -145,8 +144,11 @@ std::vector<Isometry3d> Simulator::moverPoses(int frame) const {
 }
 
 Isometry3d Simulator::T_S_L(int frame) const {
-  const detail::PlanarPose pose =
-      detail::egoPoseAtDistance(params_, detail::egoDistanceAt(params_.trajectory, stamp_s(frame)));
+  return T_S_L_at(stamp_s(frame));
+}
+
+Isometry3d Simulator::T_S_L_at(double t_s) const {
+  const detail::PlanarPose pose = detail::egoPoseAtDistance(params_, detail::egoDistanceAt(params_.trajectory, t_s));
   Isometry3d T = Isometry3d::Identity();
   T.linear() = Eigen::AngleAxisd(pose.yaw, Vector3d::UnitZ()).toRotationMatrix();
   T.translation() = Vector3d(pose.x, pose.y, params_.lidar.mount_height_m);

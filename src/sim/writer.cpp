@@ -121,8 +121,13 @@ nlohmann::ordered_json moversJson(const Simulator& sim) {
                      {"gap_period_s", mo.gap_period_s},
                      {"phase_rad", mo.phase_rad}});
     } else {
-      motion.update({{"x0", mo.x0}, {"x1", mo.x1}, {"y0", mo.y0}, {"y1", mo.y1}, {"z", mo.z},
-                     {"speed_mps", mo.speed_mps}, {"t0_s", mo.t0_s}});
+      motion.update({{"x0", mo.x0},
+                     {"x1", mo.x1},
+                     {"y0", mo.y0},
+                     {"y1", mo.y1},
+                     {"z", mo.z},
+                     {"speed_mps", mo.speed_mps},
+                     {"t0_s", mo.t0_s}});
     }
     const Eigen::Vector3d p = T_S_M[i].translation();
     movers.push_back({{"instance_id", m.instance_id},
@@ -172,11 +177,18 @@ std::string sceneJson(const Simulator& sim) {
   return j.dump(1) + "\n";
 }
 
+Status writeGroundTruth(const Simulator& sim, const fs::path& out) {
+  for (const fs::path& dir :
+       {out / "gt" / "semantic_2", out / "gt" / "instance_2", out / "gt" / "depth_2", out / "preview"}) {
+    if (Status s = makeDirs(dir); !s.isOk()) return s;
+  }
+  if (Status s = writeMesh(sim, out / "gt" / "mesh.ply"); !s.isOk()) return s;
+  return writeText(out / "scene.json", sceneJson(sim));
+}
+
 Status writeStatic(const Simulator& sim, const fs::path& out) {
   const fs::path seq = sequenceDir(out);
-  for (const fs::path& dir :
-       {seq / "velodyne", seq / "labels", seq / "image_2", out / "poses", out / "gt" / "semantic_2",
-        out / "gt" / "instance_2", out / "gt" / "depth_2", out / "preview"}) {
+  for (const fs::path& dir : {seq / "velodyne", seq / "labels", seq / "image_2", out / "poses"}) {
     if (Status s = makeDirs(dir); !s.isOk()) return s;
   }
   const KittiCalibration& c = kittiCalibration();
@@ -194,8 +206,22 @@ Status writeStatic(const Simulator& sim, const fs::path& out) {
   }
   if (Status s = writeText(seq / "times.txt", times); !s.isOk()) return s;
   if (Status s = writeText(out / "poses" / "00.txt", poses); !s.isOk()) return s;
-  if (Status s = writeMesh(sim, out / "gt" / "mesh.ply"); !s.isOk()) return s;
-  return writeText(out / "scene.json", sceneJson(sim));
+  return writeGroundTruth(sim, out);
+}
+
+Status writeFrameTruth(const Simulator& sim, const fs::path& out, int frame, const CameraImages& images) {
+  const std::string name = stem(frame);
+  Status results[3];
+  tbb::parallel_invoke([&] { results[0] = io::writePng(out / "gt" / "semantic_2" / (name + ".png"), images.semantic); },
+                       [&] { results[1] = io::writePng(out / "gt" / "instance_2" / (name + ".png"), images.instance); },
+                       [&] { results[2] = io::writePng(out / "gt" / "depth_2" / (name + ".png"), images.depth_mm); });
+  for (const Status& s : results) {
+    if (!s.isOk()) return s;
+  }
+  if (frame == 0 || frame == sim.frames() / 2) {
+    return io::writePng(out / "preview" / (name + "_class.png"), colourClasses(images.semantic));
+  }
+  return Status::ok();
 }
 
 Status writeFrame(const Simulator& sim, const fs::path& out, int frame, SimReport* report) {
@@ -212,21 +238,14 @@ Status writeFrame(const Simulator& sim, const fs::path& out, int frame, SimRepor
   for (std::size_t i = 0; i < scan.points_L.size(); ++i) {
     std::memcpy(&xyzi[4 * i], scan.points_L[i].data(), 4 * sizeof(float));
   }
-  // Six independent files: encode and write them side by side.
-  Status results[6];
+  // Independent files: encode and write them side by side.
+  Status results[4];
   tbb::parallel_invoke([&] { results[0] = writeVector(seq / "velodyne" / (name + ".bin"), xyzi); },
                        [&] { results[1] = writeVector(seq / "labels" / (name + ".label"), scan.labels); },
                        [&] { results[2] = io::writePng(seq / "image_2" / (name + ".png"), images.rgb); },
-                       [&] { results[3] = io::writePng(out / "gt" / "semantic_2" / (name + ".png"), images.semantic); },
-                       [&] { results[4] = io::writePng(out / "gt" / "instance_2" / (name + ".png"), images.instance); },
-                       [&] { results[5] = io::writePng(out / "gt" / "depth_2" / (name + ".png"), images.depth_mm); });
+                       [&] { results[3] = writeFrameTruth(sim, out, frame, images); });
   for (const Status& s : results) {
     if (!s.isOk()) return s;
-  }
-  if (frame == 0 || frame == sim.frames() / 2) {
-    if (Status s = io::writePng(out / "preview" / (name + "_class.png"), colourClasses(images.semantic)); !s.isOk()) {
-      return s;
-    }
   }
   if (report != nullptr) {
     report->points_per_frame.push_back(scan.points_L.size());
@@ -237,12 +256,8 @@ Status writeFrame(const Simulator& sim, const fs::path& out, int frame, SimRepor
   return Status::ok();
 }
 
-Result<SimReport> writeSequence(const SimParams& params, const fs::path& out, const ProgressFn& progress) {
-  if (Status s = validate(params); !s.isOk()) return s;
-  SimReport report;
-  Stopwatch watch;
-  const Simulator sim(params);
-  report.scene_ms = watch.elapsedMs();
+void describeScene(const Simulator& sim, double scene_ms, SimReport& report) {
+  report.scene_ms = scene_ms;
   report.classes = countClasses(sim.scene());
   report.triangles = sim.scene().mesh.faceCount();
   for (const Mover& m : sim.movers()) ++report.movers[m.kind];
@@ -250,6 +265,14 @@ Result<SimReport> writeSequence(const SimParams& params, const fs::path& out, co
   for (int k = 1; k < sim.frames(); ++k) {
     report.path_length_m += (sim.T_S_L(k).translation() - sim.T_S_L(k - 1).translation()).norm();
   }
+}
+
+Result<SimReport> writeSequence(const SimParams& params, const fs::path& out, const ProgressFn& progress) {
+  if (Status s = validate(params); !s.isOk()) return s;
+  SimReport report;
+  Stopwatch watch;
+  const Simulator sim(params);
+  describeScene(sim, watch.elapsedMs(), report);
   if (Status s = writeStatic(sim, out); !s.isOk()) return s;
   for (int k = 0; k < sim.frames(); ++k) {
     if (Status s = writeFrame(sim, out, k, &report); !s.isOk()) return s;

@@ -1,7 +1,9 @@
 #pragma once
 // PNG read and write: 8-bit grey, grey+alpha, RGB, RGBA and 16-bit grey.
 
+#include <cstdint>
 #include <filesystem>
+#include <vector>
 
 #include "artemis/core/image.hpp"
 #include "artemis/core/status.hpp"
@@ -18,6 +20,8 @@ Result<ImageU16> readPng16(const std::filesystem::path& path);
 
 // Writes atomically (temporary file, then rename). 1-4 channels.
 Status writePng(const std::filesystem::path& path, const ImageU8& image);
+// The PNG file's bytes of an 8-bit image (1-4 channels), in memory.
+Result<std::vector<std::uint8_t>> encodePng(const ImageU8& image);
 // 16-bit grey, big-endian samples as PNG requires.
 Status writePng(const std::filesystem::path& path, const ImageU16& image);
 

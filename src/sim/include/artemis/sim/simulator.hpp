@@ -34,6 +34,7 @@ struct LidarScan {
   std::vector<Eigen::Vector4f> points_L;  // x, y, z (m), intensity (0..1)
   std::vector<std::uint32_t> labels;      // SemanticKITTI: class | instance << 16 (movers: moving ids)
   std::vector<std::uint32_t> faces;       // the scene face each point was reflected by; kNoFace on a mover
+  std::vector<float> time_s;              // per point, s after the frame's time; empty: all at that time
   static constexpr std::uint32_t kNoFace = 0xFFFFFFFFu;
 };
 
@@ -58,6 +59,7 @@ class Simulator {
 
   [[nodiscard]] double stamp_s(int frame) const;
   [[nodiscard]] Isometry3d T_S_L(int frame) const;  // LiDAR pose in the scene frame
+  [[nodiscard]] Isometry3d T_S_L_at(double t_s) const;  // the same at any time of the drive
   [[nodiscard]] Isometry3d T_W_L(int frame) const;  // LiDAR pose in the world frame (= first LiDAR pose)
   [[nodiscard]] Isometry3d T_S_W() const { return T_S_W_; }
   [[nodiscard]] double speed_mps(int frame) const;

@@ -35,6 +35,7 @@
 namespace artemis::sim {
 
 class Simulator;
+struct CameraImages;
 
 struct SimReport {
   std::vector<ClassCount> classes;  // objects and triangles per class
@@ -55,6 +56,14 @@ using ProgressFn = std::function<void(int, int)>;
 Status writeStatic(const Simulator& sim, const std::filesystem::path& out);
 // Simulates and writes frame `frame`.
 Status writeFrame(const Simulator& sim, const std::filesystem::path& out, int frame, SimReport* report = nullptr);
+
+// The parts of the layout that other formats (bag_sequence.hpp) write beside their recording:
+// gt/mesh.ply, scene.json and the folders of the per-frame truth; then a frame's gt/ images and
+// its preview.
+Status writeGroundTruth(const Simulator& sim, const std::filesystem::path& out);
+Status writeFrameTruth(const Simulator& sim, const std::filesystem::path& out, int frame, const CameraImages& images);
+// The report's scene figures (classes, triangles, movers, street and path length).
+void describeScene(const Simulator& sim, double scene_ms, SimReport& report);
 
 // The whole sequence: builds the simulator, writes everything, reports counts and timings.
 Result<SimReport> writeSequence(const SimParams& params, const std::filesystem::path& out,
