@@ -90,6 +90,12 @@ int runRun(RunFlags flags, const std::vector<std::string>& args) {
     return 1;
   }
   flags.params.pose_refinement = *refine;
+  if (flags.dataset.bag_sweep_period_s > 0.0 && !flags.params.deskew) {
+    log::warn(
+        "--sweep-period {:.3f}: a frame's points were seen over that time; without --deskew the sensor's "
+        "motion during it smears the map",
+        flags.dataset.bag_sweep_period_s);
+  }
   flags.params.use_recording_poses = flags.dataset.poses != "none" && (*dataset)->hasPoses();
   flags.params.registration.threads = flags.params.mapper.threads;
   const std::string config = configJson(flags, (*dataset)->root().string()).dump(2) + "\n";

@@ -45,6 +45,15 @@ void DatasetFlags::addTo(CLI::App& app, bool with_poses, bool poses_none) {
   app.add_option("--calib", bag_calib,
                  "ROS bag: the camera's calibration file (YAML: image size, intrinsics, distortion, T_L_C, time "
                  "offset; see the README), for bags without CameraInfo or a camera transform");
+  app.add_option("--time-offset", bag_time_offset_s,
+                 "ROS bag: seconds added to the image stamps to put them on the LiDAR's clock (replaces the "
+                 "calibration file's time_offset_s)")
+      ->check(within(-10.0, 10.0));
+  app.add_option("--sweep-period", bag_sweep_period_s,
+                 "ROS bag: a frame gathers the LiDAR messages of this many seconds (a Livox's narrow sweeps "
+                 "accumulated; with --deskew, each point is moved by its time); 0: a frame per message")
+      ->capture_default_str()
+      ->check(within(0.0, 10.0));
   if (with_poses) {
     const std::string file_help =
         "Replace the recording's poses with this file (one T_W_L per recording frame, 12 numbers a line, "
@@ -71,6 +80,8 @@ Result<std::unique_ptr<datasets::Dataset>> DatasetFlags::open(bool load_images) 
   options.load_images = load_images;
   options.bag_topics = bag_topics;
   options.bag_calib = bag_calib;
+  options.bag_time_offset_s = bag_time_offset_s;
+  options.bag_sweep_period_s = bag_sweep_period_s;
   auto format_id = datasets::parseDatasetFormat(format);
   if (!format_id) return format_id.status();
   const std::filesystem::path where = path.empty() ? defaultDataDir() / "kitti_raw" : std::filesystem::path(path);

@@ -5,6 +5,7 @@
 
 #include <filesystem>
 #include <memory>
+#include <optional>
 #include <string>
 
 #include "artemis/datasets/dataset.hpp"
@@ -23,8 +24,10 @@ struct DatasetFlags {
   bool vertical_correction = false;
   std::string sequence = "00";
   std::string poses;
-  datasets::BagTopicRequest bag_topics;  // --lidar-topic, --image-topic, --imu-topic, --odom-topic
-  std::string bag_calib;                 // --calib
+  datasets::BagTopicRequest bag_topics;     // --lidar-topic, --image-topic, --imu-topic, --odom-topic
+  std::string bag_calib;                    // --calib
+  std::optional<double> bag_time_offset_s;  // --time-offset
+  double bag_sweep_period_s = 0.0;          // --sweep-period
 
   // Adds PATH (positional, optional: defaults to $ARTEMIS_DATA_DIR/kitti_raw) and the flags.
   // poses_none: --poses also accepts 'none' (for commands that can find poses themselves).

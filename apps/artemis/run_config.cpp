@@ -131,12 +131,11 @@ nlohmann::ordered_json configJson(const RunFlags& f, const std::string& dataset_
   // A bag's topics and camera calibration, so that evaluations and pictures open it as the run did.
   const auto& bag = f.dataset.bag_topics;
   if (!bag.lidar.empty() || !bag.image.empty() || !bag.imu.empty() || !bag.odometry.empty() ||
-      !f.dataset.bag_calib.empty()) {
-    j["dataset"]["bag"] = {{"lidar_topic", bag.lidar},
-                           {"image_topic", bag.image},
-                           {"imu_topic", bag.imu},
-                           {"odom_topic", bag.odometry},
-                           {"calib", f.dataset.bag_calib}};
+      !f.dataset.bag_calib.empty() || f.dataset.bag_time_offset_s || f.dataset.bag_sweep_period_s > 0.0) {
+    j["dataset"]["bag"] = {{"lidar_topic", bag.lidar},     {"image_topic", bag.image},
+                           {"imu_topic", bag.imu},         {"odom_topic", bag.odometry},
+                           {"calib", f.dataset.bag_calib}, {"sweep_period_s", f.dataset.bag_sweep_period_s}};
+    if (f.dataset.bag_time_offset_s) j["dataset"]["bag"]["time_offset_s"] = *f.dataset.bag_time_offset_s;
   }
   return j;
 }

@@ -56,6 +56,12 @@ Result<RunRecording> readRunRecording(const fs::path& path) {
     };
     out.bag_topics = {text("lidar_topic"), text("image_topic"), text("imu_topic"), text("odom_topic")};
     out.bag_calib = text("calib");
+    if (bag.contains("time_offset_s") && bag["time_offset_s"].is_number()) {
+      out.bag_time_offset_s = bag["time_offset_s"].get<double>();
+    }
+    if (bag.contains("sweep_period_s") && bag["sweep_period_s"].is_number()) {
+      out.bag_sweep_period_s = bag["sweep_period_s"].get<double>();
+    }
   }
   if (j->contains("texture") && (*j)["texture"].is_object() && (*j)["texture"].contains("holdout") &&
       (*j)["texture"]["holdout"].is_number_integer()) {
@@ -85,6 +91,8 @@ Result<RunDataset> openRunDataset(const fs::path& run, const std::string& datase
   if (!recording->sequence.empty()) options.sequence = recording->sequence;
   options.bag_topics = recording->bag_topics;
   options.bag_calib = recording->bag_calib;
+  options.bag_time_offset_s = recording->bag_time_offset_s;
+  options.bag_sweep_period_s = recording->bag_sweep_period_s;
   const std::string path = dataset_override.empty() ? recording->path : dataset_override;
   if (path.empty())
     return parseError(fmt::format("{}: no dataset.path; give --dataset", (run / "config.json").string()));

@@ -5,6 +5,7 @@
 #include <filesystem>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -23,8 +24,10 @@ struct RunRecording {
   bool vertical_correction = false;
   std::string sequence;  // "NN" when the run read a sequences/NN folder
   int texture_holdout = 0;
-  datasets::BagTopicRequest bag_topics;  // a bag's topics as the run named them
-  std::string bag_calib;                 // a bag's camera calibration file, or empty
+  datasets::BagTopicRequest bag_topics;     // a bag's topics as the run named them
+  std::string bag_calib;                    // a bag's camera calibration file, or empty
+  std::optional<double> bag_time_offset_s;  // a bag's --time-offset, when given
+  double bag_sweep_period_s = 0.0;          // a bag's --sweep-period
 };
 Result<RunRecording> readRunRecording(const std::filesystem::path& config_json);
 

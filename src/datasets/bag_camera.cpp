@@ -44,9 +44,6 @@ Result<BagCamera> BagCamera::make(BagCameraSource source, const StaticFrames& fr
   camera.undistortion_ = std::move(undistortion.value());
   camera.compressed_ = source.compressed;
   camera.tolerance_s_ = tolerance_s;
-  if (calib) {
-    for (auto& image : source.images) image.first += calib->time_offset_s;
-  }
   std::stable_sort(source.images.begin(), source.images.end());  // a bag holds them in receipt order
   for (const auto& [stamp, ns] : source.images) {
     camera.stamps_s_.push_back(stamp);

@@ -29,7 +29,8 @@ struct BagCameraSource {
 
 class BagCamera {
  public:
-  // With `calib`, its intrinsics, pose and time offset replace the bag's. `tolerance_s`: how far
+  // With `calib`, its intrinsics and pose replace the bag's (the images' stamps come on the LiDAR's
+  // clock: the time offset is the caller's). `tolerance_s`: how far
   // from a sweep's stamp its image may be. Errors say what is missing and how to go on.
   static Result<BagCamera> make(BagCameraSource source, const StaticFrames& frames, const std::string& lidar_frame,
                                 const std::optional<CameraCalibFile>& calib, double tolerance_s);

@@ -1,6 +1,7 @@
 #include "artemis/datasets/dataset.hpp"
 
 #include <fmt/format.h>
+#include <algorithm>
 
 #include <charconv>
 #include <cmath>
@@ -104,10 +105,15 @@ Result<Frame> Dataset::frame(std::size_t i) const {
   if (!frame) return frame.status();
   frame->index = index;
   frame->stamp_s = stamps_s_[index];
-  frame->scan_start_s = scan_start_s_.empty() ? frame->stamp_s : scan_start_s_[index];
-  frame->scan_end_s = scan_end_s_.empty() ? frame->stamp_s : scan_end_s_[index];
   frame->T_W_L = poses_[index];
   prepareScan(frame->points_L, options_, frame->stats);
+  frame->scan_start_s = scan_start_s_.empty() ? frame->stamp_s : scan_start_s_[index];
+  frame->scan_end_s = scan_end_s_.empty() ? frame->stamp_s : scan_end_s_[index];
+  if (scan_start_s_.empty() && !frame->points_L.time_s.empty()) {  // the sweep the points' own times span
+    const auto [first, last] = std::minmax_element(frame->points_L.time_s.begin(), frame->points_L.time_s.end());
+    frame->scan_start_s = frame->stamp_s + *first;
+    frame->scan_end_s = frame->stamp_s + *last;
+  }
   if (frame->stats.non_finite_dropped > 0) {
     log::warn("{}: dropped {} of {} points with non-finite values", frame->scan_path, frame->stats.non_finite_dropped,
               frame->stats.raw_points);
@@ -143,8 +149,10 @@ void correctVerticalAngle(PointCloud& points_L, double angle_deg) {
 void prepareScan(PointCloud& points_L, const DatasetOptions& options, FrameStats& stats) {
   stats.raw_points = points_L.size();
   const bool has_intensity = !points_L.intensity.empty();
+  const bool has_time = !points_L.time_s.empty();
   stats.non_finite_dropped = points_L.filter([&](std::size_t i) {
-    return points_L.points[i].allFinite() && (!has_intensity || std::isfinite(points_L.intensity[i]));
+    return points_L.points[i].allFinite() && (!has_intensity || std::isfinite(points_L.intensity[i])) &&
+           (!has_time || std::isfinite(points_L.time_s[i]));
   });
   if (options.vertical_angle_correction) correctVerticalAngle(points_L, options.vertical_angle_correction_deg);
   const float min2 = static_cast<float>(options.min_range_m * options.min_range_m);

@@ -8,6 +8,8 @@
 
 #include <Eigen/Geometry>
 
+#include "bayer.hpp"
+
 namespace artemis::datasets::ros {
 
 namespace {
@@ -225,7 +227,12 @@ Result<ImageMessage> decodeImage(std::span<const std::uint8_t> data) {
   if (out.encoding == "rgba8") order = {0, 1, 2}, channels = 4;
   if (out.encoding == "bgra8") order = {2, 1, 0}, channels = 4;
   if (out.encoding == "mono8") order = {0, 0, 0}, channels = 1;
-  if (!order) return bad("encoding \"" + out.encoding + "\" (this reader takes rgb8, bgr8, rgba8, bgra8 and mono8)");
+  const auto bayer = detail::bayerTile(out.encoding);
+  if (bayer) channels = 1;
+  if (!order && !bayer) {
+    return bad("encoding \"" + out.encoding +
+               "\" (this reader takes rgb8, bgr8, rgba8, bgra8, mono8 and bayer_rggb8, bggr8, gbrg8, grbg8)");
+  }
   constexpr std::uint32_t kMaxSide = 1 << 15;
   if (width == 0 || height == 0 || width > kMaxSide || height > kMaxSide) {
     return bad(std::to_string(width) + "x" + std::to_string(height) + " pixels");
@@ -234,6 +241,10 @@ Result<ImageMessage> decodeImage(std::span<const std::uint8_t> data) {
       static_cast<std::uint64_t>(step) * height > bytes.size()) {
     return bad(std::to_string(height) + " rows of " + std::to_string(step) + " bytes (" + std::to_string(width) + " " +
                out.encoding + " pixels) do not fit in its " + std::to_string(bytes.size()) + " bytes of data");
+  }
+  if (bayer) {
+    out.rgb = detail::demosaic(bytes, static_cast<int>(width), static_cast<int>(height), step, *bayer);
+    return out;
   }
   out.rgb = ImageU8(static_cast<int>(width), static_cast<int>(height), 3);
   for (std::uint32_t v = 0; v < height; ++v) {
@@ -297,16 +308,12 @@ Result<Imu> decodeImu(std::span<const std::uint8_t> data) {
   const auto a = in.doubles<3>("linear_acceleration");
   in.skip(9 * 8, "linear_acceleration_covariance");
   if (!in.ok()) return in.status();
-  out.has_orientation = orientation_covariance[0] != -1.0;
+  // REP 145: a covariance starting with -1 says there is no orientation; drivers that fill only the
+  // rates and accelerations (Livox's among them) leave it all zeros.
   const Eigen::Quaterniond rotation(q[3], q[0], q[1], q[2]);
-  if (out.has_orientation) {
-    if (!(rotation.norm() > 1e-9) || !std::isfinite(rotation.norm())) {
-      return parseError(
-          "sensor_msgs/Imu: orientation: not a quaternion (an IMU without one sets its covariance "
-          "to -1)");
-    }
-    out.orientation = rotation.normalized();
-  }
+  if (!std::isfinite(rotation.norm())) return parseError("sensor_msgs/Imu: orientation: not a number");
+  out.has_orientation = orientation_covariance[0] != -1.0 && rotation.norm() > 1e-9;
+  if (out.has_orientation) out.orientation = rotation.normalized();
   out.angular_velocity = Eigen::Vector3d(w[0], w[1], w[2]);
   out.linear_acceleration = Eigen::Vector3d(a[0], a[1], a[2]);
   if (!out.angular_velocity.allFinite() || !out.linear_acceleration.allFinite()) {

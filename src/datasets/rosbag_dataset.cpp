@@ -53,16 +53,27 @@ class RosbagDataset final : public Dataset {
 
  protected:
   [[nodiscard]] Result<Frame> readFrame(std::size_t index) const override {
-    const std::string& topic = choice_.lidar.topic;
-    auto bytes = reader_->read(topic, bag_ns_[index]);
-    if (!bytes) return bytes.status();
-    auto cloud = livox_ ? ros::decodeLivoxCustomMsg(*bytes) : ros::decodePointCloud2(*bytes);
-    if (!cloud) {
-      return parseError(fmt::format("{}: {} message {}: {}", root().string(), topic, index, cloud.status().message()));
-    }
     Frame frame;
-    frame.scan_path = fmt::format("{}:{}#{}", root().string(), topic, index);
-    frame.points_L = std::move(cloud->points);
+    frame.scan_path = fmt::format("{}:{}#{}", root().string(), choice_.lidar.topic, index);
+    const std::size_t first = frame_first_[index];
+    const std::size_t end = frame_first_[index + 1];
+    for (std::size_t m = first; m < end; ++m) {
+      auto cloud = readCloud(m);
+      if (!cloud) return cloud.status();
+      // Times count from the frame's stamp; a frame of several messages gives every point one.
+      const double offset_s = message_stamps_s_[m] - stamps_s_[index];
+      if (!cloud->time_s.empty() || end - first > 1) {
+        cloud->points.time_s.resize(cloud->points.size());
+        for (std::size_t i = 0; i < cloud->points.size(); ++i) {
+          cloud->points.time_s[i] = static_cast<float>((cloud->time_s.empty() ? 0.0 : cloud->time_s[i]) + offset_s);
+        }
+      }
+      if (m == first) {
+        frame.points_L = std::move(cloud->points);
+      } else {
+        frame.points_L.append(cloud->points, Isometry3d::Identity());
+      }
+    }
     if (camera_) {
       frame.cameras.push_back(camera_->viewAt(stamps_s_[index], *reader_, options().load_images, frame.stats));
     }
@@ -70,6 +81,18 @@ class RosbagDataset final : public Dataset {
   }
 
  private:
+  [[nodiscard]] Result<ros::PointCloud2> readCloud(std::size_t message) const {
+    const std::string& topic = choice_.lidar.topic;
+    auto bytes = reader_->read(topic, bag_ns_[message]);
+    if (!bytes) return bytes.status();
+    auto cloud = livox_ ? ros::decodeLivoxCustomMsg(*bytes) : ros::decodePointCloud2(*bytes);
+    if (!cloud) {
+      return parseError(
+          fmt::format("{}: {} message {}: {}", root().string(), topic, message, cloud.status().message()));
+    }
+    return cloud;
+  }
+
   RosbagDataset(const DatasetOptions& options, std::unique_ptr<BagReader> reader, BagTopicChoice choice,
                 BagSummary summary)
       : Dataset(options), reader_(std::move(reader)), choice_(std::move(choice)), summary_(std::move(summary)) {
@@ -93,6 +116,9 @@ class RosbagDataset final : public Dataset {
     if (bag_ns_.empty()) {
       return parseError(fmt::format("{}: {} holds no message", root().string(), choice_.lidar.topic));
     }
+    groupSweeps();
+    const double time_offset_s = options().bag_time_offset_s.value_or(calib ? calib->time_offset_s : 0.0);
+    for (auto& image : pass.camera.images) image.first += time_offset_s;
     if (!pass.odometry.empty()) {
       if (Status s = posesFromOdometry(pass); !s.isOk()) return s;
     }
@@ -126,7 +152,7 @@ class RosbagDataset final : public Dataset {
         if (m.topic == choice_.lidar.topic) {
           if (lidar_frame_.empty()) lidar_frame_ = header->frame_id;
           bag_ns_.push_back(m.stamp_ns);
-          stamps_s_.push_back(header->stamp_s);
+          message_stamps_s_.push_back(header->stamp_s);
         } else {
           if (pass.camera.frame.empty()) pass.camera.frame = header->frame_id;
           pass.camera.images.emplace_back(header->stamp_s, m.stamp_ns);
@@ -150,6 +176,24 @@ class RosbagDataset final : public Dataset {
     });
     if (!read.isOk()) return parseError(fmt::format("{}: {}", root().string(), read.message()));
     return Status::ok();
+  }
+
+  // Frames of the LiDAR's messages: one each, or (--sweep-period) those of each period, a frame
+  // stamped with its first message's stamp.
+  void groupSweeps() {
+    const double period = options().bag_sweep_period_s;
+    for (std::size_t m = 0; m < message_stamps_s_.size(); ++m) {
+      // A message that starts within 1 % of the period's end starts the next frame (stamps jitter).
+      if (m == 0 || period <= 0.0 || message_stamps_s_[m] - stamps_s_.back() >= 0.99 * period) {
+        frame_first_.push_back(m);
+        stamps_s_.push_back(message_stamps_s_[m]);
+      }
+    }
+    frame_first_.push_back(message_stamps_s_.size());
+    if (period > 0.0) {
+      log::info("{}: {} messages of {} gathered into {} frames of {:.3f} s", root().string(), message_stamps_s_.size(),
+                choice_.lidar.topic, stamps_s_.size(), period);
+    }
   }
 
   Status posesFromOdometry(BagPass& pass) {
@@ -193,8 +237,10 @@ class RosbagDataset final : public Dataset {
   std::unique_ptr<BagReader> reader_;
   BagTopicChoice choice_;
   BagSummary summary_;
-  bool livox_ = false;                // the LiDAR topic holds Livox CustomMsg
-  std::vector<std::int64_t> bag_ns_;  // per frame: its message's bag time
+  bool livox_ = false;                    // the LiDAR topic holds Livox CustomMsg
+  std::vector<std::int64_t> bag_ns_;      // per LiDAR message: its bag time
+  std::vector<double> message_stamps_s_;  // per LiDAR message: its header's stamp
+  std::vector<std::size_t> frame_first_;  // per frame: its first message; then the message count
   std::string lidar_frame_;
   std::optional<detail::BagCamera> camera_;
 };

@@ -38,6 +38,17 @@ Isometry3d RegisterStep::run(Frame& frame, const Isometry3d& prior, const std::o
 }
 
 void RegisterStep::deskew(Frame& frame, const Isometry3d& motion, double period_s) {
+  std::vector<float>& times = frame.points_L.time_s;
+  if (!times.empty()) {  // the recording's own per-point times
+    if (registration::deskewScan(frame.points_L.points, times, motion, period_s)) {
+      times.clear();  // every point now stands where the sensor saw it at the stamp
+    } else {
+      ++not_deskewed_;
+      log::warn("frame {}: not deskewed: {:.3f} s since the last frame against a sweep of {:.3f} s", frame.index,
+                period_s, frame.scan_end_s - frame.scan_start_s);
+    }
+    return;
+  }
   const registration::SweepTiming timing{frame.stamp_s, frame.scan_start_s, frame.scan_end_s};
   if (timing.known()) {
     if (!registration::deskewScan(frame.points_L.points, motion, period_s, timing)) {
@@ -46,7 +57,7 @@ void RegisterStep::deskew(Frame& frame, const Isometry3d& motion, double period_
                 timing.end_s - timing.start_s);
     }
   } else if (!warned_no_sweep_) {
-    log::warn("{}: no sweep start/end stamps, so scans are not deskewed", recording_.string());
+    log::warn("{}: no sweep start/end stamps or per-point times, so scans are not deskewed", recording_.string());
     warned_no_sweep_ = true;
   }
 }

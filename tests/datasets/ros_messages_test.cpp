@@ -80,6 +80,14 @@ TEST(RosMessages, EveryTypeDecodesToWhatTheWriterSet) {
   EXPECT_EQ((*tf)[1].child_frame_id, "camera");
   // The camera looks along the LiDAR's x.
   EXPECT_TRUE(((*tf)[1].T_parent_child.linear() * Eigen::Vector3d::UnitZ()).isApprox(Eigen::Vector3d::UnitX(), 1e-12));
+  auto imu = ros::decodeImu(first["/imu/data"]);
+  ASSERT_TRUE(imu) << imu.status().message();
+  EXPECT_EQ(imu->header.frame_id, "imu");
+  EXPECT_FALSE(imu->has_orientation);  // all zeros, as a Livox driver leaves it
+  EXPECT_DOUBLE_EQ(imu->linear_acceleration.z(), 9.81);
+  EXPECT_DOUBLE_EQ(imu->angular_velocity.z(), 0.0);  // the first sample
+  for (std::size_t keep = 0; keep < first["/imu/data"].size(); ++keep)
+    ASSERT_FALSE(ros::decodeImu(std::span(first["/imu/data"].data(), keep))) << keep;
 }
 
 TEST(RosMessages, DamagedOrUnsupportedMessagesAreErrorsNamingTheField) {
@@ -116,6 +124,59 @@ TEST(RosMessages, DamagedOrUnsupportedMessagesAreErrorsNamingTheField) {
   const auto odd = ros::decodeImage(yuv);
   ASSERT_FALSE(odd);
   EXPECT_NE(odd.status().message().find("\"yuv8\""), std::string::npos) << odd.status().message();
+}
+
+// A sensor_msgs/Image of an encoding the project's writer does not make, serialized by hand.
+Bytes serializedImage(const std::string& encoding, std::uint32_t width, std::uint32_t height,
+                      const std::vector<std::uint8_t>& samples) {
+  Bytes out;
+  const auto u32 = [&](std::uint32_t v) {
+    for (int i = 0; i < 4; ++i) out.push_back(static_cast<std::uint8_t>(v >> (8 * i)));
+  };
+  const auto text = [&](const std::string& t) {
+    u32(static_cast<std::uint32_t>(t.size()));
+    out.insert(out.end(), t.begin(), t.end());
+  };
+  u32(0), u32(1000), u32(0), text("camera");  // header
+  u32(height), u32(width), text(encoding);    // height, width, encoding
+  out.push_back(0), u32(width);               // is_bigendian, step
+  u32(static_cast<std::uint32_t>(samples.size()));
+  out.insert(out.end(), samples.begin(), samples.end());
+  return out;
+}
+
+// Bayer mosaics of smooth colour ramps come back as the ramps: exactly where bilinear
+// interpolation is exact (inside), within the ramp's slope at the border, for all four layouts.
+TEST(RosMessages, BayerImagesAreDemosaiced) {
+  constexpr int w = 12;
+  constexpr int h = 10;
+  const auto truth = [](int u, int v, int c) { return c == 0 ? 4 * u + 20 : c == 1 ? 100 + 2 * v : 3 * v + u + 10; };
+  const std::map<std::string, std::array<int, 4>> layouts = {{"bayer_rggb8", {0, 1, 1, 2}},
+                                                             {"bayer_bggr8", {2, 1, 1, 0}},
+                                                             {"bayer_gbrg8", {1, 2, 0, 1}},
+                                                             {"bayer_grbg8", {1, 0, 2, 1}}};
+  for (const auto& [encoding, tile] : layouts) {
+    SCOPED_TRACE(encoding);
+    std::vector<std::uint8_t> samples;
+    for (int v = 0; v < h; ++v) {
+      for (int u = 0; u < w; ++u) samples.push_back(static_cast<std::uint8_t>(truth(u, v, tile[2 * (v % 2) + u % 2])));
+    }
+    const auto image = ros::decodeImage(serializedImage(encoding, w, h, samples));
+    ASSERT_TRUE(image) << image.status().message();
+    ASSERT_EQ(image->rgb.width(), w);
+    for (int v = 0; v < h; ++v) {
+      for (int u = 0; u < w; ++u) {
+        const bool inside = u > 0 && v > 0 && u < w - 1 && v < h - 1;
+        for (int c = 0; c < 3; ++c) {
+          EXPECT_NEAR(image->rgb.at(u, v, c), truth(u, v, c), inside ? 0 : 4) << u << "," << v << " channel " << c;
+        }
+      }
+    }
+  }
+  // Too few samples for the rows: an error naming the encoding.
+  const auto short_data = ros::decodeImage(serializedImage("bayer_rggb8", w, h, std::vector<std::uint8_t>(w * h - 1)));
+  ASSERT_FALSE(short_data);
+  EXPECT_NE(short_data.status().message().find("bayer_rggb8"), std::string::npos) << short_data.status().message();
 }
 
 }  // namespace

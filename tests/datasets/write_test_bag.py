@@ -13,7 +13,7 @@ import sys
 
 import rosbag
 import rospy
-from geometry_msgs.msg import TransformStamped
+from geometry_msgs.msg import TransformStamped, Vector3
 from nav_msgs.msg import Odometry
 from sensor_msgs.msg import CameraInfo, CompressedImage, Image, Imu, PointCloud2, PointField
 from std_msgs.msg import Header
@@ -50,7 +50,10 @@ with rosbag.Bag(out, "w", compression=compression) as bag:
         bag.write("/odom", odometry, t)
     for i in range(100):
         t = rospy.Time(1000, i * 10_000_000)
-        bag.write("/imu/data", Imu(header=Header(seq=i, stamp=t, frame_id="imu")), t)
+        # As a Livox driver fills it: rates and accelerations, the orientation left all zeros.
+        bag.write("/imu/data", Imu(header=Header(seq=i, stamp=t, frame_id="imu"),
+                                   angular_velocity=Vector3(0.0, 0.0, 0.01 * i),
+                                   linear_acceleration=Vector3(0.1, 0.0, 9.81)), t)
     transform = TransformStamped(header=Header(stamp=rospy.Time(1000), frame_id="base_link"), child_frame_id="velodyne")
     transform.transform.translation.z = 1.7
     transform.transform.rotation.w = 1.0

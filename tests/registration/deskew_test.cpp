@@ -79,5 +79,49 @@ TEST(Deskew, DoesNothingWithoutSweepStampsOrWithAnOddPeriod) {
   EXPECT_NE(points, before);
 }
 
+// A Livox-like sweep: points seen in no particular azimuth order at their own times, 0-0.1 s after
+// the stamp (the sweep's start), while the sensor drives and turns. Deskewing by the points'
+// times gives the scan as seen from the pose at the stamp, whatever the pattern.
+TEST(Deskew, PerPointTimesUndoAConstantMotionWhateverThePattern) {
+  const double period = 0.1;
+  const auto poseAt = [](double t) {
+    const double radius = 10.0 / 0.3;
+    const double heading = 0.3 * t;
+    Isometry3d T = Isometry3d::Identity();
+    T.linear() = Eigen::AngleAxisd(heading, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+    T.translation() = Eigen::Vector3d(radius * std::sin(heading), radius * (1.0 - std::cos(heading)), 1.7);
+    return T;
+  };
+  std::vector<Eigen::Vector3f> skewed, truth;
+  std::vector<float> times;
+  std::uint32_t state = 12345;
+  for (const Eigen::Vector3f& p_W : test::streetCorner(1)) {
+    state = state * 1664525u + 1013904223u;
+    const double t = period * static_cast<double>(state >> 8) / static_cast<double>(1u << 24);
+    skewed.push_back(poseAt(t).inverse().cast<float>() * p_W);
+    truth.push_back(poseAt(0.0).inverse().cast<float>() * p_W);
+    times.push_back(static_cast<float>(t));
+  }
+  const Isometry3d motion = poseAt(-period).inverse() * poseAt(0.0);
+  std::vector<Eigen::Vector3f> deskewed = skewed;
+  ASSERT_TRUE(deskewScan(deskewed, times, motion, period));
+  double before = 0.0;
+  double after = 0.0;
+  for (std::size_t i = 0; i < skewed.size(); ++i) {
+    before = std::max(before, static_cast<double>((skewed[i] - truth[i]).norm()));
+    after = std::max(after, static_cast<double>((deskewed[i] - truth[i]).norm()));
+  }
+  EXPECT_GT(before, 0.9);  // a whole sweep at 10 m/s
+  EXPECT_LT(after, 0.005);
+
+  // All at the stamp: nothing moves. Times that do not fit the points, or an odd period: refused.
+  std::vector<Eigen::Vector3f> still = skewed;
+  ASSERT_TRUE(deskewScan(still, std::vector<float>(still.size(), 0.0f), motion, period));
+  EXPECT_EQ(still, skewed);
+  EXPECT_FALSE(deskewScan(still, std::span(times).first(10), motion, period));
+  EXPECT_FALSE(deskewScan(still, times, motion, 1.0));
+  EXPECT_EQ(still, skewed);
+}
+
 }  // namespace
 }  // namespace artemis::registration

@@ -82,6 +82,7 @@ class ArchiveWriter {
     array(c.points);
     array(c.intensity);
     array(c.labels);
+    array(c.time_s);
   }
 
   // With a sink: hands it what is still buffered.
@@ -195,6 +196,7 @@ class ArchiveReader {
     array(c.points);
     array(c.intensity);
     array(c.labels);
+    array(c.time_s);
     return c;
   }
 

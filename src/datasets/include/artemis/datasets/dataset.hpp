@@ -2,7 +2,7 @@
 // One interface over every recording format: frame count, random access and sequential reading,
 // a frame range, a range gate and KITTI's vertical-angle scan correction.
 //
-// Reading a frame applies, in order: removal of points with non-finite coordinates or intensity
+// Reading a frame applies, in order: removal of points with non-finite coordinates, intensity or time
 // (counted in Frame::stats), the optional vertical-angle correction, the range gate. A scan that
 // cannot be read, or that holds no point, is an error naming the file; a missing image is a
 // counted, logged skip (the frame comes without that image).
@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <limits>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -42,6 +43,12 @@ struct DatasetOptions {
   std::string sequence = "00";  // KITTI odometry: which sequences/NN to read when given the root
   BagTopicRequest bag_topics;   // ROS bags: the topics named by the user (bag_topics.hpp)
   std::string bag_calib;        // ROS bags: a camera calibration file (camera_calib_file.hpp), or empty
+  // ROS bags: added to the image stamps to put them on the LiDAR's clock; replaces the calibration
+  // file's time_offset_s when given.
+  std::optional<double> bag_time_offset_s;
+  // ROS bags: a frame gathers the LiDAR messages of this many seconds (a Livox's narrow sweeps
+  // accumulated); 0: a frame per message.
+  double bag_sweep_period_s = 0.0;
 };
 
 class Dataset {

@@ -42,7 +42,8 @@ struct PointCloud2 {
 };
 Result<PointCloud2> decodePointCloud2(std::span<const std::uint8_t> data);
 
-// sensor_msgs/Image as RGB: encodings rgb8, bgr8, rgba8, bgra8 and mono8 (grey).
+// sensor_msgs/Image as RGB: encodings rgb8, bgr8, rgba8, bgra8, mono8 (grey) and the 8-bit Bayer
+// mosaics (bayer_rggb8, bayer_bggr8, bayer_gbrg8, bayer_grbg8; demosaiced bilinearly, bayer.hpp).
 struct ImageMessage {
   Header header;
   ImageU8 rgb;
@@ -81,7 +82,8 @@ Result<Odometry> decodeOdometry(std::span<const std::uint8_t> data);
 
 // sensor_msgs/Imu: angular velocity (rad/s) and linear acceleration (m/s^2, gravity included, as an
 // accelerometer reads it) in header.frame_id; the orientation when the driver gives one (REP 145:
-// an orientation covariance starting with -1 says it does not). Covariances are skipped.
+// an orientation covariance starting with -1 says it does not; an all-zero quaternion, as drivers
+// that fill only rates and accelerations leave it, says the same). Covariances are skipped.
 struct Imu {
   Header header;
   bool has_orientation = true;

@@ -5,6 +5,7 @@
 // azimuth. Each point is moved to where the sensor would have seen it at the stamp, under a
 // constant motion over the sweep.
 
+#include <span>
 #include <vector>
 
 #include <Eigen/Core>
@@ -31,5 +32,12 @@ double sweepFraction(const Eigen::Vector3f& p);
 // stamps or a long gap between frames say little about the motion during the sweep).
 bool deskewScan(std::vector<Eigen::Vector3f>& points_L, const Isometry3d& motion, double period_s,
                 const SweepTiming& timing);
+
+// The same with each point's own time (s after the stamp), as drivers that stamp their points
+// give it (ROS bags' per-point `time` fields; Livox sweeps accumulated over a period) instead of
+// the azimuth: any scan pattern, a sweep that starts anywhere. The sweep is the times' span; the
+// same period rule applies. Points all seen at one time move together (by nothing at the stamp).
+bool deskewScan(std::vector<Eigen::Vector3f>& points_L, std::span<const float> time_s, const Isometry3d& motion,
+                double period_s);
 
 }  // namespace artemis::registration
