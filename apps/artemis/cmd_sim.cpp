@@ -35,6 +35,7 @@ struct SimFlags {
   std::optional<double> azimuth_step_deg;
   std::optional<double> exposure_variation;
   std::optional<std::string> traffic;
+  std::optional<std::string> lidar;
   std::string format = "kitti";
   sim::BagOptions bag;
   bool force = false;
@@ -67,6 +68,7 @@ Result<sim::SimParams> effectiveParams(const SimFlags& flags) {
   if (flags.dropout) params.lidar.dropout = *flags.dropout;
   if (flags.azimuth_step_deg) params.lidar.azimuth_step_deg = *flags.azimuth_step_deg;
   if (flags.exposure_variation) params.camera.exposure_variation = *flags.exposure_variation;
+  if (flags.lidar) params.lidar.rosette_points_per_s = *flags.lidar == "avia" ? 240000.0 : 0.0;
   if (flags.traffic) {
     auto traffic = sim::trafficPreset(*flags.traffic);
     if (!traffic) return traffic.status();
@@ -204,6 +206,11 @@ void addSimCommand(CLI::App& app, int& exit_code) {
                   "Moving road users: none (default), street (cars both ways, cyclists, people walking and "
                   "crossing) or drive0013 (one car ahead and one behind in the ego lane, as on KITTI's drive 0013)")
       ->check(CLI::IsMember({"none", "street", "drive0013"}));
+  cmd->add_option("--lidar", flags->lidar,
+                  "spinning (a KITTI-like HDL-64E) or avia (a Livox Avia-like non-repetitive rosette, 70.4 deg field "
+                  "looking forward, 240,000 points a second, each point seen from the pose at its own time) "
+                  "[default: spinning]")
+      ->check(CLI::IsMember({"spinning", "avia"}));
   cmd->add_option("--format", flags->format,
                   "kitti (KITTI odometry's layout) or rosbag (OUT/street.bag: PointCloud2 with per-point time, "
                   "images, CameraInfo, exact odometry, a 100 Hz IMU and static transforms; the ground truth in OUT/gt)")

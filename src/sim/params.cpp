@@ -49,6 +49,8 @@ void visitParams(SimParams& p, Visitor&& v) {
   v("lidar.min_range_m", l.min_range_m);
   v("lidar.max_range_m", l.max_range_m);
   v("lidar.mount_height_m", l.mount_height_m);
+  v("lidar.rosette_points_per_s", l.rosette_points_per_s);
+  v("lidar.rosette_fov_deg", l.rosette_fov_deg);
   CameraParams& c = p.camera;
   v("camera.width_px", c.width_px);
   v("camera.height_px", c.height_px);
@@ -108,7 +110,7 @@ Result<TrafficParams> trafficPreset(const std::string& name) {
   if (name == "drive0013") {
     t.cars_ahead = 1;
     t.cars_behind = 1;
-    t.gap_ahead_m = 14.0;  // 11..17 m
+    t.gap_ahead_m = 14.0;   // 11..17 m
     t.gap_behind_m = 16.0;  // 13..19 m
     return t;
   }
@@ -248,6 +250,10 @@ Status validate(const SimParams& p) {
   if (!(l.dropout >= 0 && l.dropout < 1)) return fail("dropout must be in [0, 1)");
   if (!(l.min_range_m >= 0 && l.max_range_m > l.min_range_m)) return fail("need 0 <= min_range_m < max_range_m");
   if (!(l.mount_height_m > 0.2 && l.mount_height_m < 5)) return fail("mount_height_m must be in (0.2, 5)");
+  if (!(l.rosette_points_per_s == 0 || (l.rosette_points_per_s >= 1000 && l.rosette_points_per_s <= 5e6))) {
+    return fail("rosette_points_per_s must be 0 (a spinning LiDAR) or in [1000, 5e6]");
+  }
+  if (!(l.rosette_fov_deg >= 10 && l.rosette_fov_deg <= 120)) return fail("rosette_fov_deg must be in [10, 120]");
   const CameraParams& c = p.camera;
   if (c.width_px < 16 || c.height_px < 16 || c.width_px > 8192 || c.height_px > 8192) {
     return fail("camera size must be 16..8192 pixels a side");

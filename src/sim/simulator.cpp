@@ -14,6 +14,7 @@
 #include "mover_caster.hpp"
 #include "noise.hpp"
 #include "raycaster.hpp"
+#include "rosette.hpp"
 
 namespace artemis::sim {
 
@@ -71,11 +72,17 @@ struct Surface {
   Isometry3d T_S_M = Isometry3d::Identity();
 };
 
+}  // namespace
+
 // The frame's movers and their poses, null without traffic.
-struct MoversAt {
+struct detail::MoversAt {
   std::unique_ptr<detail::MoverCaster::Moment> moment;
   std::vector<Isometry3d> T_S_M;
 };
+
+namespace {
+
+using detail::MoversAt;
 
 // Nearest hit of the static street and the movers along origin + t d_S, t in [t_near, t_far].
 std::optional<Surface> castRay(const detail::Raycaster& street, const std::vector<Mover>& movers, const MoversAt& at,
@@ -176,72 +183,104 @@ std::vector<double> beamElevations(const LidarParams& p) {
 
 }  // namespace
 
+// One beam's return: the point in the LiDAR's frame (x y z, intensity), its label and face.
+struct Simulator::LidarReturn {
+  Eigen::Vector4f point;
+  std::uint32_t label = 0;
+  std::uint32_t face = LidarScan::kNoFace;
+};
+
+std::optional<Simulator::LidarReturn> Simulator::traceBeam(const Isometry3d& T_S_L, const Vector3d& d_L,
+                                                           std::uint64_t ray_seed,
+                                                           const detail::MoversAt& movers) const {
+  const LidarParams& p = params_.lidar;
+  if (detail::unit(ray_seed) < p.dropout) return std::nullopt;
+  const Vector3f origin = T_S_L.translation().cast<float>();
+  const Vector3d d_S = T_S_L.linear() * d_L;
+  const std::optional<Surface> hit = castRay(tracer_->raycaster, movers_, movers, origin, d_S.cast<float>(),
+                                             static_cast<float>(p.min_range_m), static_cast<float>(p.max_range_m));
+  if (!hit) return std::nullopt;
+  const double range_m = hit->t + p.range_noise_m * detail::gaussian(detail::mix64(ray_seed));
+  if (range_m < p.min_range_m || range_m > p.max_range_m) return std::nullopt;
+  const Vector3d p_S = origin.cast<double>() + static_cast<double>(hit->t) * d_S;
+  LidarReturn out;
+  float intensity = 0.0f;
+  if (hit->on_mover) {
+    const Scene& shape = hit->mover->shape;
+    const Matrix3d R_S_M = hit->T_S_M.linear();
+    const double cos_incidence = shape.mesh.faceNormal(hit->face).dot(R_S_M.transpose() * d_S);
+    intensity = shape.reflectivity(hit->face, hit->T_S_M.inverse() * p_S, cos_incidence);
+    out.label =
+        static_cast<std::uint32_t>(hit->mover->moving_id) | (static_cast<std::uint32_t>(hit->mover->instance_id) << 16);
+  } else {
+    const double cos_incidence = scene_.mesh.faceNormal(hit->face).dot(d_S);
+    intensity = scene_.reflectivity(hit->face, p_S, cos_incidence);
+    out.face = hit->face;
+    out.label = static_cast<std::uint32_t>(scene_.mesh.face_class[hit->face]) |
+                (static_cast<std::uint32_t>(scene_.mesh.face_instance[hit->face]) << 16);
+  }
+  const Vector3f p_L = (range_m * d_L).cast<float>();
+  out.point = Eigen::Vector4f(p_L.x(), p_L.y(), p_L.z(), intensity);
+  return out;
+}
+
+namespace {
+
+// The returns in slot order (the slots that returned nothing left out), with their times if given.
+LidarScan gatherReturns(std::vector<std::optional<Simulator::LidarReturn>>& slots, const std::vector<float>& times) {
+  LidarScan out;
+  out.points_L.reserve(slots.size() / 2);
+  for (std::size_t i = 0; i < slots.size(); ++i) {
+    if (!slots[i]) continue;
+    out.points_L.push_back(slots[i]->point);
+    out.faces.push_back(slots[i]->face);
+    out.labels.push_back(slots[i]->label);
+    if (!times.empty()) out.time_s.push_back(times[i]);
+  }
+  return out;
+}
+
+}  // namespace
+
 LidarScan Simulator::scan(int frame) const {
   const LidarParams& p = params_.lidar;
+  const std::uint64_t frame_seed = detail::hash(params_.scene.seed, 0x11DA7u, static_cast<std::uint64_t>(frame));
+  const MoversAt movers = placeMovers(tracer_->mover_caster.get(), moverPoses(frame));
+  if (p.rosette_points_per_s > 0.0) {
+    // The rosette's beams over the frame's period, each from the pose at its own time: the scan
+    // carries the rig's motion during it, as a real one does, and each point's time.
+    const double t0 = stamp_s(frame);
+    const std::vector<detail::RosetteBeam> beams = detail::rosetteBeams(p, t0, 1.0 / params_.trajectory.frame_rate_hz);
+    std::vector<std::optional<LidarReturn>> slots(beams.size());
+    std::vector<float> times(beams.size());
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, beams.size(), 512), [&](const auto& range) {
+      for (std::size_t i = range.begin(); i < range.end(); ++i) {
+        slots[i] = traceBeam(T_S_L_at(t0 + beams[i].time_s), beams[i].d_L, detail::hash(frame_seed, i), movers);
+        times[i] = static_cast<float>(beams[i].time_s);
+      }
+    });
+    return gatherReturns(slots, times);
+  }
   const int columns = static_cast<int>(std::lround(360.0 / p.azimuth_step_deg));
   const int beams = 2 * p.beams_per_block;
   const std::vector<double> elevation = beamElevations(p);
   const Isometry3d T = T_S_L(frame);
-  const Matrix3d R = T.linear();
-  const Vector3f origin = T.translation().cast<float>();
-  const std::uint64_t frame_seed = detail::hash(params_.scene.seed, 0x11DA7u, static_cast<std::uint64_t>(frame));
-  const MoversAt movers = placeMovers(tracer_->mover_caster.get(), moverPoses(frame));
-
   // Every ray has its slot, so the output order (column by column, top beam first) is fixed.
   const std::size_t n = static_cast<std::size_t>(columns) * static_cast<std::size_t>(beams);
-  std::vector<Eigen::Vector4f> points(n);
-  std::vector<std::uint32_t> faces(n, LidarScan::kNoFace);
-  std::vector<std::uint32_t> labels(n, 0);
-  std::vector<std::uint8_t> returned(n, 0);
+  std::vector<std::optional<LidarReturn>> slots(n);
   tbb::parallel_for(tbb::blocked_range<int>(0, columns, 64), [&](const tbb::blocked_range<int>& range) {
     for (int c = range.begin(); c < range.end(); ++c) {
       const double azimuth = -std::numbers::pi + (c + 0.5) * p.azimuth_step_deg * std::numbers::pi / 180.0;
       for (int b = 0; b < beams; ++b) {
         const std::size_t slot =
             static_cast<std::size_t>(c) * static_cast<std::size_t>(beams) + static_cast<std::size_t>(b);
-        const std::uint64_t ray_seed = detail::hash(frame_seed, slot);
-        if (detail::unit(ray_seed) < p.dropout) continue;
         const double e = elevation[static_cast<std::size_t>(b)];
         const Vector3d d_L(std::cos(e) * std::cos(azimuth), std::cos(e) * std::sin(azimuth), std::sin(e));
-        const Vector3d d_S = R * d_L;
-        const std::optional<Surface> hit =
-            castRay(tracer_->raycaster, movers_, movers, origin, d_S.cast<float>(), static_cast<float>(p.min_range_m),
-                    static_cast<float>(p.max_range_m));
-        if (!hit) continue;
-        const double range_m = hit->t + p.range_noise_m * detail::gaussian(detail::mix64(ray_seed));
-        if (range_m < p.min_range_m || range_m > p.max_range_m) continue;
-        const Vector3d p_S = origin.cast<double>() + static_cast<double>(hit->t) * d_S;
-        float intensity = 0.0f;
-        if (hit->on_mover) {
-          const Scene& shape = hit->mover->shape;
-          const Matrix3d R_S_M = hit->T_S_M.linear();
-          const double cos_incidence = shape.mesh.faceNormal(hit->face).dot(R_S_M.transpose() * d_S);
-          intensity = shape.reflectivity(hit->face, hit->T_S_M.inverse() * p_S, cos_incidence);
-          labels[slot] = static_cast<std::uint32_t>(hit->mover->moving_id) |
-                         (static_cast<std::uint32_t>(hit->mover->instance_id) << 16);
-        } else {
-          const double cos_incidence = scene_.mesh.faceNormal(hit->face).dot(d_S);
-          intensity = scene_.reflectivity(hit->face, p_S, cos_incidence);
-          faces[slot] = hit->face;
-          labels[slot] = static_cast<std::uint32_t>(scene_.mesh.face_class[hit->face]) |
-                         (static_cast<std::uint32_t>(scene_.mesh.face_instance[hit->face]) << 16);
-        }
-        const Vector3f p_L = (range_m * d_L).cast<float>();
-        points[slot] = Eigen::Vector4f(p_L.x(), p_L.y(), p_L.z(), intensity);
-        returned[slot] = 1;
+        slots[slot] = traceBeam(T, d_L, detail::hash(frame_seed, slot), movers);
       }
     }
   });
-
-  LidarScan out;
-  out.points_L.reserve(n / 2);
-  for (std::size_t i = 0; i < n; ++i) {
-    if (returned[i] == 0) continue;
-    out.points_L.push_back(points[i]);
-    out.faces.push_back(faces[i]);
-    out.labels.push_back(labels[i]);
-  }
-  return out;
+  return gatherReturns(slots, {});
 }
 
 CameraImages Simulator::render(int frame) const {

@@ -96,5 +96,37 @@ TEST(CliSimBag, RawImagesAndBz2Chunks) {
   EXPECT_NE(bad.exit_code, 0);
 }
 
+// The Avia-like rosette, written with each point's time and seen from the pose at that time as the
+// rig drives 10 m/s: mapped with the exact odometry, the map is blurred by up to a metre of motion
+// per frame unless --deskew moves each point by its time.
+TEST(CliSimBag, AviaRosetteIsDeskewedByItsPointTimes) {
+  test::TempDir tmp;
+  const auto sim =
+      test::runCli("sim --preset demo --frames 20 --lidar avia --format rosbag --out " + (tmp / "avia").string());
+  ASSERT_EQ(sim.exit_code, 0) << sim.err;
+  const std::string bag = (tmp / "avia/street.bag").string();
+  const auto seen = test::runCli("dataset export-cloud " + bag + " --voxel 0.05 -o " + (tmp / "seen.ply").string());
+  ASSERT_EQ(seen.exit_code, 0) << seen.err;
+  double precision[2] = {0.0, 0.0};
+  double f1[2] = {0.0, 0.0};
+  for (int deskew = 0; deskew < 2; ++deskew) {
+    const std::string out = (tmp / ("run" + std::to_string(deskew))).string();
+    const auto run = test::runCli("run " + bag + " --texture off --checkpoint-every 0" +
+                                  (deskew != 0 ? " --deskew" : "") + " --out " + out);
+    ASSERT_EQ(run.exit_code, 0) << run.err;
+    const std::string json = out + ".json";
+    const auto eval = test::runCli("eval mesh " + out + "/mesh.ply --gt " + (tmp / "avia/gt/mesh.ply").string() +
+                                   " --seen " + (tmp / "seen.ply").string() + " --tau 0.05 --json " + json);
+    ASSERT_EQ(eval.exit_code, 0) << eval.err;
+    const auto score = nlohmann::json::parse(test::slurp(json))["scores"][0];
+    precision[deskew] = score["precision"].get<double>();
+    f1[deskew] = score["f1"].get<double>();
+  }
+  // Measured: precision 0.66 -> 0.95, F1 0.54 -> 0.78 on these 20 frames.
+  EXPECT_LT(precision[0], 0.8);
+  EXPECT_GT(precision[1], 0.9);
+  EXPECT_GT(f1[1], f1[0] + 0.15);
+}
+
 }  // namespace
 }  // namespace artemis

@@ -48,6 +48,10 @@ struct LidarParams {
   double min_range_m = 1.0;
   double max_range_m = 120.0;
   double mount_height_m = 1.73;  // above the road, as on KITTI's car
+  // 0: the spinning HDL-64E above. Otherwise a Livox Avia-like rosette (rosette.hpp) looking
+  // forward, this many points a second (the Avia: 240,000) in a circular field this wide.
+  double rosette_points_per_s = 0.0;
+  double rosette_fov_deg = 70.4;
 };
 
 // KITTI's image_02 (2011_09_26 calibration): rectified pinhole, mounted with KITTI's LiDAR-camera

@@ -10,6 +10,7 @@
 #include <array>
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <vector>
 
 #include <Eigen/Core>
@@ -22,6 +23,10 @@
 #include "artemis/sim/traffic.hpp"
 
 namespace artemis::sim {
+
+namespace detail {
+struct MoversAt;
+}
 
 // KITTI's 2011_09_26 calibration, which the simulated rig is mounted with: rectified projections
 // P_rect_00..03 and Tr = R_rect_00 * T_C0_L (LiDAR into rectified camera 0), row-major 3x4.
@@ -58,9 +63,9 @@ class Simulator {
   [[nodiscard]] int frames() const { return params_.frames; }
 
   [[nodiscard]] double stamp_s(int frame) const;
-  [[nodiscard]] Isometry3d T_S_L(int frame) const;  // LiDAR pose in the scene frame
+  [[nodiscard]] Isometry3d T_S_L(int frame) const;      // LiDAR pose in the scene frame
   [[nodiscard]] Isometry3d T_S_L_at(double t_s) const;  // the same at any time of the drive
-  [[nodiscard]] Isometry3d T_W_L(int frame) const;  // LiDAR pose in the world frame (= first LiDAR pose)
+  [[nodiscard]] Isometry3d T_W_L(int frame) const;      // LiDAR pose in the world frame (= first LiDAR pose)
   [[nodiscard]] Isometry3d T_S_W() const { return T_S_W_; }
   [[nodiscard]] double speed_mps(int frame) const;
 
@@ -71,14 +76,19 @@ class Simulator {
   [[nodiscard]] const PinholeCamera& camera() const { return camera_; }
   [[nodiscard]] const Isometry3d& T_L_C() const { return T_L_C_; }
 
-  // One sweep, taken at the frame's pose (the sweep is instantaneous: no motion distortion; the
-  // movers stand where they are at the frame's time).
+  // One sweep. The spinning LiDAR's is taken at the frame's pose (instantaneous: no motion
+  // distortion). The rosette's (LidarParams::rosette_points_per_s > 0) beams are cast over the
+  // frame's period, each from the pose at its time, which LidarScan::time_s keeps. The movers
+  // stand where they are at the frame's time.
   [[nodiscard]] LidarScan scan(int frame) const;
   // The camera's image and its ground truth at the frame's pose.
   [[nodiscard]] CameraImages render(int frame) const;
 
- private:
+  struct LidarReturn;  // one beam's return (simulator.cpp)
 
+ private:
+  [[nodiscard]] std::optional<LidarReturn> traceBeam(const Isometry3d& T_S_L, const Eigen::Vector3d& d_L,
+                                                     std::uint64_t ray_seed, const detail::MoversAt& movers) const;
 
   SimParams params_;
   Scene scene_;
