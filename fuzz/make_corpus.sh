@@ -21,7 +21,8 @@ trap 'rm -rf "$work"' EXIT
 
 targets=(fuzz_velodyne_scan fuzz_kitti_calib fuzz_kitti_oxts fuzz_kitti_poses fuzz_kitti_timestamps
          fuzz_semantic_labels fuzz_kitti_boxes fuzz_ply fuzz_png fuzz_mask_json fuzz_vocabulary
-         fuzz_alias_table fuzz_dense_model fuzz_sim_config fuzz_run_config fuzz_ros_messages fuzz_camera_calib)
+         fuzz_alias_table fuzz_dense_model fuzz_sim_config fuzz_run_config fuzz_ros_messages fuzz_camera_calib
+         fuzz_rosbag_file)
 for t in "${targets[@]}"; do rm -rf "${out:?}/$t"; mkdir -p "$out/$t"; done
 
 # seed TARGET NAME FILE [BYTES]: FILE (its first BYTES bytes) as seed NAME of TARGET, if it exists.
@@ -239,6 +240,29 @@ for topic, raw, _ in rosbag.Bag(sys.argv[1]).read_messages(raw=True):
     if topic not in seen:
         seen.add(topic)
         open(sys.argv[2] + "/" + topic.strip("/").replace("/", "_") + ".msg", "wb").write(raw[1])
+PY
+  # Whole bags, small: three tiny clouds and a transform, in each chunk compression.
+  /usr/bin/python3 - "$out/fuzz_rosbag_file" <<'PY'
+import struct
+import sys
+import rosbag
+import rospy
+from sensor_msgs.msg import PointCloud2, PointField
+from std_msgs.msg import Header
+from tf2_msgs.msg import TFMessage
+from geometry_msgs.msg import TransformStamped
+fields = [PointField(name=n, offset=4 * i, datatype=PointField.FLOAT32, count=1) for i, n in enumerate("xyz")]
+for compression in ("none", "bz2", "lz4"):
+    with rosbag.Bag(sys.argv[1] + "/tiny_" + compression + ".bag", "w", compression=compression) as bag:
+        t0 = rospy.Time(1000)
+        tf = TransformStamped(header=Header(stamp=t0, frame_id="base_link"), child_frame_id="velodyne")
+        tf.transform.rotation.w = 1.0
+        bag.write("/tf_static", TFMessage(transforms=[tf]), t0)
+        for k in range(3):
+            t = t0 + rospy.Duration(0, k * 100_000_000)
+            data = struct.pack("<6f", 1.0 + k, 2.0, 3.0, 4.0, 5.0, 6.0)
+            bag.write("/points", PointCloud2(header=Header(seq=k, stamp=t, frame_id="velodyne"), height=1, width=2,
+                                             fields=fields, point_step=12, row_step=24, data=data), t)
 PY
 else
   echo "make_corpus: /usr/bin/python3 cannot import rosbag (bag message seeds skipped)" >&2

@@ -116,6 +116,7 @@ class RosbagDataset final : public Dataset {
     if (bag_ns_.empty()) {
       return parseError(fmt::format("{}: {} holds no message", root().string(), choice_.lidar.topic));
     }
+    dropOutOfOrder();
     groupSweeps();
     const double time_offset_s = options().bag_time_offset_s.value_or(calib ? calib->time_offset_s : 0.0);
     for (auto& image : pass.camera.images) image.first += time_offset_s;
@@ -176,6 +177,30 @@ class RosbagDataset final : public Dataset {
     });
     if (!read.isOk()) return parseError(fmt::format("{}: {}", root().string(), read.message()));
     return Status::ok();
+  }
+
+  // A LiDAR message stamped at or before the one before it (in the bag's order, that of receipt)
+  // cannot be a later sweep: it is skipped, counted and logged.
+  void dropOutOfOrder() {
+    std::size_t kept = 0;
+    std::size_t skipped = 0;
+    for (std::size_t m = 0; m < message_stamps_s_.size(); ++m) {
+      if (kept > 0 && !(message_stamps_s_[m] > message_stamps_s_[kept - 1])) {
+        if (skipped++ == 0) {
+          log::warn("{}: {} message {} is stamped {:.6f} s, not after the message before it ({:.6f} s): skipped",
+                    root().string(), choice_.lidar.topic, m, message_stamps_s_[m], message_stamps_s_[kept - 1]);
+        }
+        continue;
+      }
+      message_stamps_s_[kept] = message_stamps_s_[m];
+      bag_ns_[kept] = bag_ns_[m];
+      ++kept;
+    }
+    message_stamps_s_.resize(kept);
+    bag_ns_.resize(kept);
+    if (skipped > 1) {
+      log::warn("{}: {} messages of {} skipped for stamps out of order", root().string(), skipped, choice_.lidar.topic);
+    }
   }
 
   // Frames of the LiDAR's messages: one each, or (--sweep-period) those of each period, a frame

@@ -14,6 +14,8 @@
 #include <mutex>
 #include <set>
 
+#include "bag_structure.hpp"
+
 namespace artemis::datasets {
 
 namespace fs = std::filesystem;
@@ -35,7 +37,8 @@ Status bagError(const fs::path& bag, const std::exception& e) {
   return parseError(bag.string() + ": cannot read the bag: " + what);
 }
 
-Status openBag(const fs::path& bag, rosbag::Bag& out) {
+// `depth`: what the caller will have the library read (bag_structure.hpp): the index, or messages too.
+Status openBag(const fs::path& bag, rosbag::Bag& out, detail::BagCheck depth) {
   std::error_code ec;
   if (!fs::is_regular_file(bag, ec)) return notFound(bag.string() + ": no such file");
   if (!isBagFile(bag)) {
@@ -43,6 +46,8 @@ Status openBag(const fs::path& bag, rosbag::Bag& out) {
                       ": not a ROS 1 bag (it does not start with \"#ROSBAG V2.0\"; ROS 2 bags are folders "
                       "of .db3 or .mcap files, which this reader does not take)");
   }
+  // The library trusts the file's lengths and offsets: check them first (bag_structure.hpp).
+  if (Status s = detail::checkBagStructure(bag, depth); !s.isOk()) return s;
   try {
     out.open(bag.string(), rosbag::bagmode::Read);
   } catch (const std::exception& e) {
@@ -71,7 +76,7 @@ bool isBagFile(const fs::path& path) {
 
 Result<BagSummary> readBagSummary(const fs::path& bag) {
   rosbag::Bag file;
-  if (Status s = openBag(bag, file); !s.isOk()) return s;
+  if (Status s = openBag(bag, file, detail::BagCheck::kIndex); !s.isOk()) return s;
   BagSummary summary;
   summary.path = bag;
   std::error_code ec;
@@ -107,7 +112,7 @@ Result<BagSummary> readBagSummary(const fs::path& bag) {
 Status forEachBagMessage(const fs::path& bag, const std::vector<std::string>& topics,
                          const std::function<Status(const BagMessage&)>& visit) {
   rosbag::Bag file;
-  if (Status s = openBag(bag, file); !s.isOk()) return s;
+  if (Status s = openBag(bag, file, detail::BagCheck::kChunks); !s.isOk()) return s;
   std::vector<std::uint8_t> buffer;
   try {
     const auto view = topics.empty() ? std::make_unique<rosbag::View>(file)
@@ -136,7 +141,7 @@ BagReader::~BagReader() = default;
 
 Result<std::unique_ptr<BagReader>> BagReader::open(const fs::path& bag) {
   auto impl = std::make_unique<Impl>();
-  if (Status s = openBag(bag, impl->bag); !s.isOk()) return s;
+  if (Status s = openBag(bag, impl->bag, detail::BagCheck::kChunks); !s.isOk()) return s;
   return std::unique_ptr<BagReader>(new BagReader(bag, std::move(impl)));
 }
 

@@ -131,5 +131,29 @@ TEST(RosbagSweeps, TimeOffsetPutsTheImagesOnTheLidarsClock) {
   EXPECT_EQ(frame->stats.missing_images, 1U);
 }
 
+// A sweep stamped at (or before) the one before it cannot be a later sweep: skipped, not mapped
+// at the wrong time.
+TEST(RosbagSweeps, ASweepNotAfterTheOneBeforeIsSkipped) {
+  test::TempDir tmp;
+  const fs::path path = tmp / "repeated.bag";
+  {
+    auto bag = BagWriter::create(path, BagCompression::kNone).value();
+    std::uint32_t seq = 0;
+    for (const double t : {1000.0, 1000.1, 1000.1, 1000.2}) {
+      ros::PointCloud2 cloud;
+      cloud.header = header(seq, t, "velodyne");
+      cloud.points.points = {{5.0f, static_cast<float>(seq++), 0.0f}};
+      ASSERT_TRUE(bag->write("/velodyne_points", cloud).isOk());
+    }
+    ASSERT_TRUE(bag->close().isOk());
+  }
+  auto d = openDataset(path, DatasetFormat::kRosbag, options()).value();
+  ASSERT_EQ(d->size(), 3U);
+  EXPECT_NEAR(d->stamp(2), 1000.2, 1e-9);
+  auto last = d->frame(2);
+  ASSERT_TRUE(last);
+  EXPECT_FLOAT_EQ(last->points_L.points[0].y(), 3.0f);  // the fourth message: the third was skipped
+}
+
 }  // namespace
 }  // namespace artemis::datasets
