@@ -20,9 +20,9 @@ namespace artemis::datasets {
 namespace {
 
 namespace fs = std::filesystem;
-using Bytes = std::vector<char>;
+using BagBytes = std::vector<char>;
 
-Bytes validBag(const fs::path& dir) {
+BagBytes validBag(const fs::path& dir) {
   const fs::path path = dir / "valid.bag";
   auto bag = BagWriter::create(path, BagCompression::kNone).value();
   for (std::uint32_t k = 0; k < 3; ++k) {
@@ -39,14 +39,14 @@ Bytes validBag(const fs::path& dir) {
 }
 
 // The offset of the value of header field `name=` (its first occurrence).
-std::size_t valueAt(const Bytes& bytes, const std::string& name) {
+std::size_t valueAt(const BagBytes& bytes, const std::string& name) {
   const std::string key = name + "=";
   const auto at = std::search(bytes.begin(), bytes.end(), key.begin(), key.end());
   EXPECT_NE(at, bytes.end()) << name;
   return static_cast<std::size_t>(at - bytes.begin()) + key.size();
 }
 
-std::string errorOf(const fs::path& dir, const std::string& name, const Bytes& bytes) {
+std::string errorOf(const fs::path& dir, const std::string& name, const BagBytes& bytes) {
   const fs::path path = dir / name;
   std::ofstream(path, std::ios::binary).write(bytes.data(), static_cast<std::streamsize>(bytes.size()));
   auto summary = readBagSummary(path);
@@ -57,32 +57,32 @@ std::string errorOf(const fs::path& dir, const std::string& name, const Bytes& b
 
 TEST(BagStructure, LyingLengthsSizesAndOffsetsAreErrorsNamingTheByte) {
   test::TempDir tmp;
-  const Bytes valid = validBag(tmp.path());
+  const BagBytes valid = validBag(tmp.path());
   ASSERT_TRUE(readBagSummary(tmp / "valid.bag"));
 
-  Bytes long_header = valid;  // the bag header record's header length: 2 GiB
+  BagBytes long_header = valid;  // the bag header record's header length: 2 GiB
   const std::uint32_t huge = 0x7FFFFFF0;
   std::memcpy(long_header.data() + 13, &huge, 4);
   EXPECT_NE(errorOf(tmp.path(), "a.bag", long_header).find("a damaged bag at byte 13: a record header of"),
             std::string::npos);
 
-  Bytes long_field = valid;  // the bag header's first field claims more than its header holds
+  BagBytes long_field = valid;  // the bag header's first field claims more than its header holds
   std::memcpy(long_field.data() + 17, &huge, 4);
   EXPECT_NE(errorOf(tmp.path(), "b.bag", long_field).find("runs past it"), std::string::npos);
 
-  Bytes wrong_size = valid;  // an uncompressed chunk whose size is not its data's
+  BagBytes wrong_size = valid;  // an uncompressed chunk whose size is not its data's
   std::uint32_t size = 0;
   std::memcpy(&size, wrong_size.data() + valueAt(wrong_size, "size"), 4);
   ++size;
   std::memcpy(wrong_size.data() + valueAt(wrong_size, "size"), &size, 4);
   EXPECT_NE(errorOf(tmp.path(), "c.bag", wrong_size).find("size is not its data's"), std::string::npos);
 
-  Bytes misplaced_index = valid;  // the index position at no record
+  BagBytes misplaced_index = valid;  // the index position at no record
   const std::uint64_t fourteen = 14;
   std::memcpy(misplaced_index.data() + valueAt(misplaced_index, "index_pos"), &fourteen, 8);
   EXPECT_NE(errorOf(tmp.path(), "d.bag", misplaced_index).find("the index is at no record"), std::string::npos);
 
-  Bytes unknown_compression = valid;  // "none" becomes "nope"
+  BagBytes unknown_compression = valid;  // "none" becomes "nope"
   const std::size_t compression = valueAt(unknown_compression, "compression");
   std::memcpy(unknown_compression.data() + compression, "nope", 4);
   EXPECT_NE(errorOf(tmp.path(), "e.bag", unknown_compression).find("chunk compression \"nope\""), std::string::npos);
@@ -92,7 +92,7 @@ TEST(BagStructure, LyingLengthsSizesAndOffsetsAreErrorsNamingTheByte) {
 // index is sound) and stops the reading of messages.
 TEST(BagStructure, ALieInsideAChunkStopsReadingItsMessages) {
   test::TempDir tmp;
-  Bytes bytes = validBag(tmp.path());
+  BagBytes bytes = validBag(tmp.path());
   // The chunk header's last field is its size; then the data length; then the first record inside.
   const std::size_t inner = valueAt(bytes, "size") + 4 + 4;
   const std::uint32_t huge = 0x7FFFFFF0;

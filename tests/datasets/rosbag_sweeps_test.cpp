@@ -13,7 +13,7 @@ namespace {
 
 namespace fs = std::filesystem;
 
-ros::Header header(std::uint32_t seq, double stamp_s, const char* frame) {
+ros::Header sweepHeader(std::uint32_t seq, double stamp_s, const char* frame) {
   ros::Header h;
   h.seq = seq;
   h.stamp_s = stamp_s;
@@ -30,7 +30,7 @@ fs::path writeSweeps(const fs::path& dir, bool times, bool images) {
   for (std::uint32_t k = 0; k < 6; ++k) {
     const double t = 1000.0 + 0.1 * k;
     ros::PointCloud2 cloud;
-    cloud.header = header(k, t, "velodyne");
+    cloud.header = sweepHeader(k, t, "velodyne");
     for (int i = 0; i < 10; ++i) {
       cloud.points.points.emplace_back(5.0f + static_cast<float>(i), static_cast<float>(k), 0.0f);
       if (times) cloud.time_s.push_back(0.01 * i);
@@ -38,7 +38,7 @@ fs::path writeSweeps(const fs::path& dir, bool times, bool images) {
     EXPECT_TRUE(bag->write("/velodyne_points", cloud).isOk());
     if (!images) continue;
     ros::ImageMessage image;
-    image.header = header(k, t + 0.3, "camera");
+    image.header = sweepHeader(k, t + 0.3, "camera");
     image.rgb = ImageU8(8, 6, 3, static_cast<std::uint8_t>(k));
     EXPECT_TRUE(bag->write("/camera/image_raw", image).isOk());
     ros::CameraInfo info;
@@ -53,7 +53,7 @@ fs::path writeSweeps(const fs::path& dir, bool times, bool images) {
   }
   if (images) {
     std::vector<ros::Transform> tf(1);
-    tf[0].header = header(0, 1000.0, "velodyne");
+    tf[0].header = sweepHeader(0, 1000.0, "velodyne");
     tf[0].child_frame_id = "camera";
     EXPECT_TRUE(bag->write("/tf_static", tf).isOk());
   }
@@ -61,7 +61,7 @@ fs::path writeSweeps(const fs::path& dir, bool times, bool images) {
   return path;
 }
 
-DatasetOptions options(double sweep_period_s = 0.0) {
+DatasetOptions sweepOptions(double sweep_period_s = 0.0) {
   DatasetOptions o;
   o.min_range_m = 0.0;
   o.bag_sweep_period_s = sweep_period_s;
@@ -70,7 +70,7 @@ DatasetOptions options(double sweep_period_s = 0.0) {
 
 TEST(RosbagSweeps, PointTimesCountFromTheFrameAndSpanItsSweep) {
   test::TempDir tmp;
-  auto d = openDataset(writeSweeps(tmp.path(), true, false), DatasetFormat::kRosbag, options()).value();
+  auto d = openDataset(writeSweeps(tmp.path(), true, false), DatasetFormat::kRosbag, sweepOptions()).value();
   ASSERT_EQ(d->size(), 6U);
   auto frame = d->frame(2);
   ASSERT_TRUE(frame) << frame.status().message();
@@ -80,7 +80,7 @@ TEST(RosbagSweeps, PointTimesCountFromTheFrameAndSpanItsSweep) {
   EXPECT_NEAR(frame->scan_end_s, 1000.29, 1e-6);
 
   // Without per-point times a frame of one message has none, and no sweep.
-  auto plain = openDataset(writeSweeps(tmp.path(), false, false), DatasetFormat::kRosbag, options()).value();
+  auto plain = openDataset(writeSweeps(tmp.path(), false, false), DatasetFormat::kRosbag, sweepOptions()).value();
   auto untimed = plain->frame(2);
   ASSERT_TRUE(untimed);
   EXPECT_TRUE(untimed->points_L.time_s.empty());
@@ -91,7 +91,7 @@ TEST(RosbagSweeps, SweepPeriodGathersMessagesIntoFrames) {
   test::TempDir tmp;
   for (const bool times : {true, false}) {
     SCOPED_TRACE(times);
-    auto d = openDataset(writeSweeps(tmp.path(), times, false), DatasetFormat::kRosbag, options(0.3)).value();
+    auto d = openDataset(writeSweeps(tmp.path(), times, false), DatasetFormat::kRosbag, sweepOptions(0.3)).value();
     ASSERT_EQ(d->size(), 2U);
     EXPECT_NEAR(d->stamp(1), 1000.3, 1e-9);
     auto frame = d->frame(1);
@@ -105,14 +105,14 @@ TEST(RosbagSweeps, SweepPeriodGathersMessagesIntoFrames) {
     EXPECT_NEAR(frame->scan_end_s - frame->scan_start_s, times ? 0.29 : 0.2, 1e-6);
   }
   // A period shorter than the messages' spacing leaves a frame per message.
-  auto each = openDataset(writeSweeps(tmp.path(), true, false), DatasetFormat::kRosbag, options(0.05)).value();
+  auto each = openDataset(writeSweeps(tmp.path(), true, false), DatasetFormat::kRosbag, sweepOptions(0.05)).value();
   EXPECT_EQ(each->size(), 6U);
 }
 
 TEST(RosbagSweeps, TimeOffsetPutsTheImagesOnTheLidarsClock) {
   test::TempDir tmp;
   const fs::path bag = writeSweeps(tmp.path(), true, true);
-  DatasetOptions o = options();
+  DatasetOptions o = sweepOptions();
   auto late = openDataset(bag, DatasetFormat::kRosbag, o).value();
   auto frame = late->frame(4);
   ASSERT_TRUE(frame) << frame.status().message();
@@ -141,13 +141,13 @@ TEST(RosbagSweeps, ASweepNotAfterTheOneBeforeIsSkipped) {
     std::uint32_t seq = 0;
     for (const double t : {1000.0, 1000.1, 1000.1, 1000.2}) {
       ros::PointCloud2 cloud;
-      cloud.header = header(seq, t, "velodyne");
+      cloud.header = sweepHeader(seq, t, "velodyne");
       cloud.points.points = {{5.0f, static_cast<float>(seq++), 0.0f}};
       ASSERT_TRUE(bag->write("/velodyne_points", cloud).isOk());
     }
     ASSERT_TRUE(bag->close().isOk());
   }
-  auto d = openDataset(path, DatasetFormat::kRosbag, options()).value();
+  auto d = openDataset(path, DatasetFormat::kRosbag, sweepOptions()).value();
   ASSERT_EQ(d->size(), 3U);
   EXPECT_NEAR(d->stamp(2), 1000.2, 1e-9);
   auto last = d->frame(2);
