@@ -52,9 +52,9 @@ class VoxelMap;
 
 struct SemanticConstraintParams {
   bool enabled = true;
-  double lambda_sem = 1e-4;      // lambda_sem of eq. 2
-  double lambda_smooth = 2e-3;   // lambda_smooth of eq. 2
-  double temperature = 4.0;      // tau of eq. 5
+  double lambda_sem = 1e-4;     // lambda_sem of eq. 2
+  double lambda_smooth = 2e-3;  // lambda_smooth of eq. 2
+  double temperature = 4.0;     // tau of eq. 5
   // One sweep: on the simulated street (200 frames, noise 0.03 m) a second lowered the vertices' RMS
   // distance to the true surface only from 14.7 to 14.4 mm, for 4-5 ms more a frame.
   int max_sweeps = 1;
@@ -118,7 +118,9 @@ struct ConstraintStats {
 // Jensen-Shannon divergence of two distributions over n slots, in nats (0 .. ln 2).
 double jensenShannon(const float* p, const float* q, std::size_t n);
 // sim of eq. 5: exp(-tau sqrt(JS)).
-inline double semanticSimilarity(double js, double temperature) { return std::exp(-temperature * std::sqrt(js)); }
+inline double semanticSimilarity(double js, double temperature) {
+  return std::exp(-temperature * std::sqrt(js));
+}
 
 class ConstraintSolver {
  public:
@@ -159,6 +161,11 @@ class ConstraintSolver {
   // Unnormalised normal of v (sum of its faces' area vectors), with vertex `moved` at x.
   [[nodiscard]] Eigen::Vector3d areaNormal(std::uint32_t v, std::uint32_t moved, const Eigen::Vector3d& x) const;
   void refreshNormal(std::uint32_t v);
+  // The constructor's steps, in order.
+  void indexFaces();
+  void gatherNeighbours();
+  void startGeometry();
+  void orderPhases();
   void checkMovable(std::uint32_t v) const;
   // localEnergy and localGradient together (either may be null), sharing the moved normals.
   void evaluate(std::uint32_t v, const Eigen::Vector3d& x, ConstraintEnergy* energy,
@@ -172,7 +179,7 @@ class ConstraintSolver {
   std::vector<std::uint32_t> vertex_faces_;
   std::vector<std::uint32_t> neighbour_offsets_;  // vertex -> neighbours (CSR, sorted)
   std::vector<Neighbour> neighbours_;
-  std::vector<double> lengths_;  // per neighbour entry: the edge's length at the current positions
+  std::vector<double> lengths_;                // per neighbour entry: the edge's length at the current positions
   std::vector<Eigen::Vector3d> x_;             // positions, in double
   std::vector<Eigen::Vector3d> area_normals_;  // m_v at the current positions
   std::vector<Eigen::Vector3d> normals_;       // n_v = m_v / |m_v| (zero when |m_v| is 0)
