@@ -10,6 +10,16 @@
 namespace artemis::registration {
 namespace {
 
+// T_W_L(t) of a sensor driving at 10 m/s and turning at 0.3 rad/s: a circle of radius 10 / 0.3.
+Isometry3d poseAt(double t) {
+  const double radius = 10.0 / 0.3;
+  const double heading = 0.3 * t;
+  Isometry3d T = Isometry3d::Identity();
+  T.linear() = Eigen::AngleAxisd(heading, Eigen::Vector3d::UnitZ()).toRotationMatrix();
+  T.translation() = Eigen::Vector3d(radius * std::sin(heading), radius * (1.0 - std::cos(heading)), 1.7);
+  return T;
+}
+
 TEST(Deskew, SweepRunsClockwiseFromBehind) {
   EXPECT_NEAR(sweepFraction({-1.0f, 1e-6f, 0.0f}), 0.0, 1e-5);  // just left of straight behind
   EXPECT_NEAR(sweepFraction({0.0f, 1.0f, 0.0f}), 0.25, 1e-6);   // left
@@ -18,19 +28,12 @@ TEST(Deskew, SweepRunsClockwiseFromBehind) {
   EXPECT_NEAR(sweepFraction({-1.0f, -1e-6f, 0.0f}), 1.0, 1e-5);
 }
 
-// The sensor drives at 10 m/s and turns at 0.3 rad/s (a constant twist in its own frame) during a
-// 0.1 s sweep; each point is seen from where the sensor was when the beam swept over it. Deskewing with that motion
-// must give the scan as seen from the pose at the stamp.
+// The sensor drives at 10 m/s and turns at 0.3 rad/s (poseAt: a constant twist in its own frame)
+// during a 0.1 s sweep stamped at t = 0.05; each point is seen from where the sensor was when the
+// beam swept over it. Deskewing with that motion must give the scan as seen from the pose at the
+// stamp.
 TEST(Deskew, UndoesAConstantMotion) {
   const double period = 0.1;
-  const auto poseAt = [](double t) {  // T_W_L(t), stamp at t = 0.05: a circle of radius 10 / 0.3
-    const double radius = 10.0 / 0.3;
-    const double heading = 0.3 * t;
-    Isometry3d T = Isometry3d::Identity();
-    T.linear() = Eigen::AngleAxisd(heading, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-    T.translation() = Eigen::Vector3d(radius * std::sin(heading), radius * (1.0 - std::cos(heading)), 1.7);
-    return T;
-  };
   const SweepTiming timing{0.05, 0.0, 0.1};
   std::vector<Eigen::Vector3f> skewed, truth;
   for (const Eigen::Vector3f& p_W : test::streetCorner(1)) {
@@ -84,14 +87,6 @@ TEST(Deskew, DoesNothingWithoutSweepStampsOrWithAnOddPeriod) {
 // times gives the scan as seen from the pose at the stamp, whatever the pattern.
 TEST(Deskew, PerPointTimesUndoAConstantMotionWhateverThePattern) {
   const double period = 0.1;
-  const auto poseAt = [](double t) {
-    const double radius = 10.0 / 0.3;
-    const double heading = 0.3 * t;
-    Isometry3d T = Isometry3d::Identity();
-    T.linear() = Eigen::AngleAxisd(heading, Eigen::Vector3d::UnitZ()).toRotationMatrix();
-    T.translation() = Eigen::Vector3d(radius * std::sin(heading), radius * (1.0 - std::cos(heading)), 1.7);
-    return T;
-  };
   std::vector<Eigen::Vector3f> skewed, truth;
   std::vector<float> times;
   std::uint32_t state = 12345;
