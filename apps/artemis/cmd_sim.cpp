@@ -69,6 +69,11 @@ Result<sim::SimParams> effectiveParams(const SimFlags& flags) {
   if (flags.azimuth_step_deg) params.lidar.azimuth_step_deg = *flags.azimuth_step_deg;
   if (flags.exposure_variation) params.camera.exposure_variation = *flags.exposure_variation;
   if (flags.lidar) params.lidar.rosette_points_per_s = *flags.lidar == "avia" ? 240000.0 : 0.0;
+  if (params.lidar.rosette_points_per_s > 0.0 && flags.format != "rosbag") {
+    return invalidArgument(
+        "--lidar avia scans over the frame's period and needs per-point times, which the KITTI layout's scans "
+        "cannot hold: use --format rosbag");
+  }
   if (flags.traffic) {
     auto traffic = sim::trafficPreset(*flags.traffic);
     if (!traffic) return traffic.status();

@@ -29,6 +29,7 @@ bool PointCloud::consistent() const {
 }
 
 void PointCloud::append(const PointCloud& other, const Isometry3d& T_this_other) {
+  if (other.empty()) return;  // nothing to add, and no attribute it lacks to drop
   const bool was_empty = points.empty();
   const bool keep_intensity = (was_empty || !intensity.empty()) && !other.intensity.empty();
   const bool keep_labels = (was_empty || !labels.empty()) && !other.labels.empty();

@@ -2,7 +2,10 @@
 
 #include <bzlib.h>
 #include <roslz4/lz4s.h>
+#include <sys/stat.h>
+#include <time.h>
 
+#include <algorithm>
 #include <cstdint>
 #include <cstring>
 #include <fstream>
@@ -106,6 +109,12 @@ class BagWalk {
       : bag_(bag), in_(in), size_(size), chunks_(chunks) {}
 
   Status run() {
+    // The library reads the version line up to its newline and parses records after it: the
+    // first record must start right after exactly this line.
+    auto version = readBytes(0, std::min<std::uint64_t>(size_, 13));
+    if (!version || version->size() != 13 || std::memcmp(version->data(), "#ROSBAG V2.0\n", 13) != 0) {
+      return error(0, "the version line is not \"#ROSBAG V2.0\" and a newline");
+    }
     std::vector<Record> records;
     for (std::uint64_t at = 13; at < size_;) {
       auto r = readRecord(at);
@@ -178,6 +187,10 @@ class BagWalk {
     auto connections = number<std::uint32_t>(r.header, "conn_count");
     auto chunks = number<std::uint32_t>(r.header, "chunk_count");
     if (!index || !connections || !chunks) return parseError("bag header: a field missing or of the wrong width");
+    // An encrypted bag's records are laid out otherwise: this check cannot vouch for them.
+    if (const auto e = r.header.find("encryptor"); e != r.header.end() && e->second != "rosbag/NoEncryptor") {
+      return parseError("an encrypted bag (\"" + e->second + "\"), which this reader does not take");
+    }
     index_pos_ = *index;
     conn_count_ = *connections;
     chunk_count_ = *chunks;
@@ -341,26 +354,32 @@ class BagWalk {
 }  // namespace
 
 Status checkBagStructure(const fs::path& bag, BagCheck depth) {
+  // A file that passed is known by its inode, size and modification and change times (to the
+  // nanosecond). One changed within the last 2 s is checked every time: a rewrite within the
+  // clock's granularity could keep all four (git's "racy" rule).
+  using Key = std::tuple<dev_t, ino_t, off_t, std::int64_t, std::int64_t, bool>;
   static std::mutex mutex;
-  static std::set<std::tuple<std::string, std::uintmax_t, fs::file_time_type, bool>> checked;
-  std::error_code ec;
-  const std::uintmax_t size = fs::file_size(bag, ec);
-  if (ec) return ioError(bag.string() + ": " + ec.message());
-  const std::string path = fs::absolute(bag, ec).string();
-  const fs::file_time_type modified = fs::last_write_time(bag, ec);
+  static std::set<Key> checked;
+  struct stat st {};
+  if (::stat(bag.c_str(), &st) != 0) return ioError(bag.string() + ": cannot read its size and times");
+  const auto ns = [](const timespec& t) { return static_cast<std::int64_t>(t.tv_sec) * 1'000'000'000 + t.tv_nsec; };
   const bool chunks = depth == BagCheck::kChunks;
+  const Key key{st.st_dev, st.st_ino, st.st_size, ns(st.st_mtim), ns(st.st_ctim), chunks};
+  Key chunks_key = key;
+  std::get<5>(chunks_key) = true;
   {
     const std::lock_guard lock(mutex);
-    // A bag whose chunks passed has passed the index check too.
-    if (checked.contains({path, size, modified, chunks}) || checked.contains({path, size, modified, true})) {
-      return Status::ok();
-    }
+    if (checked.contains(key) || checked.contains(chunks_key)) return Status::ok();  // chunks imply the index
   }
   std::ifstream in(bag, std::ios::binary);
   if (!in) return ioError(bag.string() + ": cannot open");
-  if (Status s = BagWalk(bag, in, size, chunks).run(); !s.isOk()) return s;
+  if (Status s = BagWalk(bag, in, static_cast<std::uint64_t>(st.st_size), chunks).run(); !s.isOk()) return s;
+  timespec now{};
+  ::clock_gettime(CLOCK_REALTIME, &now);
+  if (ns(now) - std::max(ns(st.st_mtim), ns(st.st_ctim)) < 2'000'000'000) return Status::ok();
   const std::lock_guard lock(mutex);
-  checked.insert({path, size, modified, chunks});
+  if (checked.size() >= 4096) checked.clear();  // a long-lived process reading many bags
+  checked.insert(key);
   return Status::ok();
 }
 

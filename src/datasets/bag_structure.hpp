@@ -21,8 +21,10 @@
 // The library reads the index (the bag header, connections, chunk infos, each chunk's header and
 // its index records) when it opens a bag, and a chunk's records only when it reads its messages:
 // kIndex checks what opening reads (fast: it seeks over the chunks' data), kChunks everything
-// (it decompresses every chunk once). A file that passed is remembered (path, size and
-// modification time) for the rest of the process, so that a run's several opens check it once.
+// (it decompresses every chunk once). A file that passed is remembered (inode, size, modification
+// and change times) for the rest of the process, so that a run's several opens check it once;
+// one changed in the last 2 s is checked each time.
+// The version line must be exactly "#ROSBAG V2.0\n"; encrypted bags are refused.
 
 #include <filesystem>
 

@@ -68,7 +68,8 @@ class RosbagDataset final : public Dataset {
           cloud->points.time_s[i] = static_cast<float>((cloud->time_s.empty() ? 0.0 : cloud->time_s[i]) + offset_s);
         }
       }
-      if (m == first) {
+      if (cloud->points.empty()) continue;  // an empty message adds nothing (and no attribute to drop)
+      if (frame.points_L.empty()) {
         frame.points_L = std::move(cloud->points);
       } else {
         frame.points_L.append(cloud->points, Isometry3d::Identity());

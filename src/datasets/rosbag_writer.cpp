@@ -184,13 +184,19 @@ Result<std::unique_ptr<BagWriter>> BagWriter::create(const fs::path& path, BagCo
   return std::unique_ptr<BagWriter>(new BagWriter(path, std::move(impl)));
 }
 
+Status BagWriter::checkStamp(const std::string& topic, double stamp_s) const {
+  // Below 2^32 s by more than the half nanosecond rosTime() rounds to.
+  if (!(stamp_s > 0.0) || !std::isfinite(stamp_s) || stamp_s >= 4294967295.0) {
+    return invalidArgument(path_.string() + ": " + topic + ": a message stamped " + std::to_string(stamp_s) +
+                           " s (a bag's times lie after 0 and before 2^32 - 1 s)");
+  }
+  return Status::ok();
+}
+
 template <typename Message>
 Status BagWriter::put(const std::string& topic, double stamp_s, const Message& message) {
   if (impl_->closed) return invalidArgument(path_.string() + ": the bag is closed");
-  if (!(stamp_s > 0.0) || !std::isfinite(stamp_s) || stamp_s >= 4294967296.0) {
-    return invalidArgument(path_.string() + ": " + topic + ": a message stamped " + std::to_string(stamp_s) +
-                           " s (a bag's times lie after 0 and before 2^32 s)");
-  }
+  if (Status s = checkStamp(topic, stamp_s); !s.isOk()) return s;
   try {
     impl_->bag.write(topic, rosTime(stamp_s), message);
   } catch (const std::exception& e) {
@@ -269,6 +275,9 @@ Status BagWriter::write(const std::string& topic, const ros::Imu& imu) {
 
 Status BagWriter::write(const std::string& topic, const std::vector<ros::Transform>& transforms) {
   if (transforms.empty()) return invalidArgument(topic + ": no transform to write");
+  for (const ros::Transform& t : transforms) {
+    if (Status s = checkStamp(topic, t.header.stamp_s); !s.isOk()) return s;
+  }
   TFMessage out;
   for (const ros::Transform& t : transforms) {
     TransformStamped s;

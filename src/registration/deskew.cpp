@@ -77,6 +77,9 @@ bool deskewScan(std::vector<Eigen::Vector3f>& points_L, std::span<const float> t
   const double start_s = *lo;
   const double sweep_s = static_cast<double>(*hi) - start_s;
   if (!std::isfinite(sweep_s) || !(period_s > 0.0)) return false;
+  // Times on another clock (a timebase that is not the stamp, an absolute time mistaken for an
+  // offset) say nothing of this sweep: the motion extrapolated to them would fling the points.
+  if (start_s < -3.0 * period_s || static_cast<double>(*hi) > 3.0 * period_s) return false;
   if (sweep_s > 0.0 && !periodFits(period_s, sweep_s)) return false;
   const MotionTable table(motion, period_s, start_s, sweep_s);
   table.apply(points_L, [&](std::size_t i) { return sweep_s > 0.0 ? (time_s[i] - start_s) / sweep_s : 0.0; });

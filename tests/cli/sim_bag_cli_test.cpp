@@ -94,6 +94,9 @@ TEST(CliSimBag, RawImagesAndBz2Chunks) {
   const auto bad =
       test::runCli("sim --preset demo --frames 2 --format rosbag --bag-compression zstd --out " + (tmp / "t").string());
   EXPECT_NE(bad.exit_code, 0);
+  const auto avia_kitti = test::runCli("sim --preset demo --frames 2 --lidar avia --out " + (tmp / "u").string());
+  EXPECT_EQ(avia_kitti.exit_code, 1);
+  EXPECT_NE(avia_kitti.err.find("use --format rosbag"), std::string::npos) << avia_kitti.err;
 }
 
 // The Avia-like rosette, written with each point's time and seen from the pose at that time as the

@@ -82,6 +82,10 @@ TEST(BagStructure, LyingLengthsSizesAndOffsetsAreErrorsNamingTheByte) {
   std::memcpy(misplaced_index.data() + valueAt(misplaced_index, "index_pos"), &fourteen, 8);
   EXPECT_NE(errorOf(tmp.path(), "d.bag", misplaced_index).find("the index is at no record"), std::string::npos);
 
+  BagBytes no_newline = valid;  // the version line runs on: the library would parse records elsewhere
+  no_newline[12] = ' ';
+  EXPECT_NE(errorOf(tmp.path(), "f.bag", no_newline).find("the version line"), std::string::npos);
+
   BagBytes unknown_compression = valid;  // "none" becomes "nope"
   const std::size_t compression = valueAt(unknown_compression, "compression");
   std::memcpy(unknown_compression.data() + compression, "nope", 4);

@@ -104,6 +104,30 @@ TEST(RosbagSweeps, SweepPeriodGathersMessagesIntoFrames) {
     EXPECT_NEAR(frame->points_L.time_s[29], times ? 0.29 : 0.2, 1e-6);
     EXPECT_NEAR(frame->scan_end_s - frame->scan_start_s, times ? 0.29 : 0.2, 1e-6);
   }
+  // An empty message in a gathered frame adds nothing and takes nothing away.
+  const fs::path holed = tmp / "holed.bag";
+  {
+    auto bag = BagWriter::create(holed, BagCompression::kNone).value();
+    for (std::uint32_t k = 0; k < 3; ++k) {
+      ros::PointCloud2 cloud;
+      cloud.header = sweepHeader(k, 1000.0 + 0.1 * k, "velodyne");
+      if (k != 1) {
+        cloud.points.points = {{5.0f, 0.0f, 0.0f}};
+        cloud.points.intensity = {0.5f};
+        cloud.time_s = {0.01};
+      }
+      ASSERT_TRUE(bag->write("/velodyne_points", cloud).isOk());
+    }
+    ASSERT_TRUE(bag->close().isOk());
+  }
+  auto gathered = openDataset(holed, DatasetFormat::kRosbag, sweepOptions(0.3)).value();
+  auto whole = gathered->frame(0);
+  ASSERT_TRUE(whole) << whole.status().message();
+  ASSERT_EQ(whole->points_L.size(), 2U);
+  ASSERT_EQ(whole->points_L.time_s.size(), 2U);
+  EXPECT_NEAR(whole->points_L.time_s[1], 0.21, 1e-6);
+  EXPECT_EQ(whole->points_L.intensity.size(), 2U);
+
   // A period shorter than the messages' spacing leaves a frame per message.
   auto each = openDataset(writeSweeps(tmp.path(), true, false), DatasetFormat::kRosbag, sweepOptions(0.05)).value();
   EXPECT_EQ(each->size(), 6U);

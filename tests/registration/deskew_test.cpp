@@ -115,6 +115,9 @@ TEST(Deskew, PerPointTimesUndoAConstantMotionWhateverThePattern) {
   EXPECT_EQ(still, skewed);
   EXPECT_FALSE(deskewScan(still, std::span(times).first(10), motion, period));
   EXPECT_FALSE(deskewScan(still, times, motion, 1.0));
+  std::vector<float> other_clock = times;  // e.g. a timebase that is not the stamp: 1000 s off
+  for (float& t : other_clock) t += 1000.0f;
+  EXPECT_FALSE(deskewScan(still, other_clock, motion, period));
   EXPECT_EQ(still, skewed);
 }
 

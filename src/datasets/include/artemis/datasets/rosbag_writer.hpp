@@ -30,7 +30,8 @@ class BagWriter {
   BagWriter(const BagWriter&) = delete;
   BagWriter& operator=(const BagWriter&) = delete;
 
-  // Each message is written at bag time = its header's stamp (which must be after 0).
+  // Each message is written at bag time = its header's stamp (after 0, before 2^32 - 1 s; every
+  // transform's stamp is checked too).
   // PointCloud2: fields x y z (float32), intensity (float32) when the cloud has intensities, and
   // "time" (float32, seconds after the header's stamp) when cloud.time_s is not empty.
   Status write(const std::string& topic, const ros::PointCloud2& cloud);
@@ -51,6 +52,7 @@ class BagWriter {
   BagWriter(std::filesystem::path path, std::unique_ptr<Impl> impl);
   template <typename Message>
   Status put(const std::string& topic, double stamp_s, const Message& message);
+  [[nodiscard]] Status checkStamp(const std::string& topic, double stamp_s) const;
   std::filesystem::path path_;
   std::unique_ptr<Impl> impl_;
 };

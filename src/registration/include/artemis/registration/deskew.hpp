@@ -36,7 +36,8 @@ bool deskewScan(std::vector<Eigen::Vector3f>& points_L, const Isometry3d& motion
 // The same with each point's own time (s after the stamp), as drivers that stamp their points
 // give it (ROS bags' per-point `time` fields; Livox sweeps accumulated over a period) instead of
 // the azimuth: any scan pattern, a sweep that starts anywhere. The sweep is the times' span; the
-// same period rule applies. Points all seen at one time move together (by nothing at the stamp).
+// same period rule applies, and times beyond 3 periods of the stamp are refused (another clock's).
+// Points all seen at one time move together (by nothing at the stamp).
 bool deskewScan(std::vector<Eigen::Vector3f>& points_L, std::span<const float> time_s, const Isometry3d& motion,
                 double period_s);
 
