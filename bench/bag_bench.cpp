@@ -16,7 +16,6 @@
 #include <cstdlib>
 #include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <random>
 #include <string>
 
@@ -25,19 +24,12 @@
 #include "artemis/datasets/ros_messages.hpp"
 #include "artemis/datasets/rosbag_file.hpp"
 #include "artemis/datasets/rosbag_writer.hpp"
+#include "artemis/pipeline/timing.hpp"
 
 namespace {
 
 using namespace artemis;
 namespace fs = std::filesystem;
-
-double residentMb() {
-  std::ifstream statm("/proc/self/statm");
-  long pages = 0;
-  long resident = 0;
-  statm >> pages >> resident;
-  return static_cast<double>(resident) * static_cast<double>(sysconf(_SC_PAGESIZE)) / 1e6;
-}
 
 void dropFromPageCache(const fs::path& file) {
   const int fd = ::open(file.c_str(), O_RDONLY);
@@ -111,8 +103,8 @@ Result<ReadFigures> readBag(const fs::path& path, bool cold) {
   clock.reset();
   Status s = datasets::forEachBagMessage(path, {}, [&](const datasets::BagMessage& m) {
     if (++f.messages % 50 == 0) {
-      f.rss_min_mb = std::min(f.rss_min_mb, residentMb());
-      f.rss_max_mb = std::max(f.rss_max_mb, residentMb());
+      f.rss_min_mb = std::min(f.rss_min_mb, pipeline::residentMb());
+      f.rss_max_mb = std::max(f.rss_max_mb, pipeline::residentMb());
     }
     return m.data.empty() ? parseError("an empty message") : Status::ok();
   });
@@ -170,7 +162,7 @@ int main(int argc, char** argv) {
     }
     fmt::print(
         "{}: index {:.3f} s; open for reading {:.3f} s; stream {} messages in {:.2f} s ({:.0f} MB/s); decode the "
-        "clouds {:.2f} s ({:.0f} MB/s); resident memory while streaming {:.0f}-{:.0f} MB\n",
+        "clouds {:.2f} s ({:.0f} MB/s); resident memory while streaming {:.0f}-{:.0f} MiB\n",
         cold ? "first, cold (pages dropped)" : "again, warm (page cache)", f->index_s, f->open_s, f->messages,
         f->stream_s, bytes / 1e6 / f->stream_s, f->decode_s, bytes / 1e6 / f->decode_s, f->rss_min_mb, f->rss_max_mb);
   }
