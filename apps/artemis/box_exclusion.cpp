@@ -88,6 +88,28 @@ std::map<int, std::size_t> dropPointsInBoxes(PointCloud& points_L, std::span<con
   return dropped;
 }
 
+std::vector<std::uint8_t> pixelsInBoxes(const datasets::KittiBoxLabels& labels, const std::set<int>& tracks,
+                                        std::size_t label_frame, int width, int height, int padding_px) {
+  std::vector<std::uint8_t> inside(
+      static_cast<std::size_t>(std::max(width, 0)) * static_cast<std::size_t>(std::max(height, 0)), 0);
+  for (const datasets::KittiBox& box : labels.boxes) {
+    if (box.frame != label_frame || !tracks.contains(box.track_id)) continue;
+    const Eigen::Vector4d& b = box.box_2d_px;
+    const auto clampTo = [](double x, int n) {
+      return static_cast<int>(std::clamp(x, 0.0, static_cast<double>(n - 1)));
+    };
+    const int u0 = clampTo(std::floor(b[0]) - padding_px, width);
+    const int v0 = clampTo(std::floor(b[1]) - padding_px, height);
+    const int u1 = clampTo(std::ceil(b[2]) + padding_px, width);
+    const int v1 = clampTo(std::ceil(b[3]) + padding_px, height);
+    if (b[2] < 0.0 || b[3] < 0.0 || b[0] > width - 1 || b[1] > height - 1) continue;  // outside the picture
+    for (int v = v0; v <= v1; ++v) {
+      std::fill_n(inside.begin() + static_cast<std::ptrdiff_t>(v) * width + u0, u1 - u0 + 1, std::uint8_t{1});
+    }
+  }
+  return inside;
+}
+
 Result<std::set<int>> parseTrackList(const std::string& text, const datasets::KittiBoxLabels& labels) {
   if (text == "all") return tracksOf(labels);
   std::set<int> ids;

@@ -9,6 +9,7 @@
 // stay in the cloud.
 
 #include <cstddef>
+#include <cstdint>
 #include <map>
 #include <set>
 #include <span>
@@ -58,6 +59,13 @@ Result<std::vector<std::vector<ExclusionBox>>> placeExclusionBoxes(
 // point on a face is inside). Returns the points dropped per track; a point inside boxes of two
 // tracks counts for the lower track id. Tracks that dropped nothing are absent.
 std::map<int, std::size_t> dropPointsInBoxes(PointCloud& points_L, std::span<const ExclusionBox> boxes_L);
+
+// The pixels of a width x height image_02 picture inside the 2-D boxes (x1 y1 x2 y2, grown by
+// `padding_px` on every side) that `tracks` have in label frame `label_frame`: one byte a pixel, 1
+// inside. What a held-out view's static score leaves out (artemis eval texture --boxes): a car
+// driving through the recording is in the real image but, rightly, not in a map of what stays.
+std::vector<std::uint8_t> pixelsInBoxes(const datasets::KittiBoxLabels& labels, const std::set<int>& tracks,
+                                        std::size_t label_frame, int width, int height, int padding_px);
 
 // "0,1,5" -> {0, 1, 5}; "all": every track of `labels`. An error names a token that is not a
 // non-negative integer, or an empty list.

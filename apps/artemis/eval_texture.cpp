@@ -3,22 +3,32 @@
 // is rendered at those frames' camera poses and compared with the real images: PSNR and SSIM over
 // the pixels the rendering covers, and the covered fraction. The same run's vertices rendered as
 // coloured point splats (what a coloured point-cloud map shows) are scored beside it.
+//
+// A map of what stays holds no car that drove through the recording, but the held-out image does:
+// with --boxes, the pixels inside the 2-D boxes of the listed tracks (the moving cars) are also
+// left out, and the same scores are given for the static scene that remains.
 #include <fmt/format.h>
+#include <fmt/ranges.h>
 #include <CLI/CLI.hpp>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
+#include <set>
 
 #include "artemis/core/colour.hpp"
 #include "artemis/core/log.hpp"
 #include "artemis/datasets/dataset.hpp"
+#include "artemis/datasets/kitti_boxes.hpp"
 #include "artemis/eval/geometry.hpp"
 #include "artemis/eval/texture.hpp"
 #include "artemis/io/file.hpp"
 #include "artemis/io/png.hpp"
 #include "artemis/render/rasterizer.hpp"
+#include "box_exclusion.hpp"
 #include "commands.hpp"
 #include "flag_checks.hpp"
 #include "progress.hpp"
@@ -37,6 +47,10 @@ struct TextureEvalFlags {
   double splat_radius_m = 0.05;
   std::string json;
   std::string pictures;  // folder for the rendered pictures (optional)
+  std::string boxes;     // KITTI tracking labels: also score the static scene, without the listed tracks
+  std::string tracks;    // "0,1" or "all"; required with boxes
+  int box_frame_offset = 0;
+  int box_padding_px = 4;
 };
 
 // The run's mesh with its vertex colours in linear RGB (what the renderer interpolates).
@@ -62,13 +76,23 @@ Result<ColouredMesh> readColouredMesh(const fs::path& path) {
   return mesh;
 }
 
+// The covered pixels that `left_out` does not mark.
+std::vector<std::uint8_t> keptPixels(const std::vector<std::uint8_t>& covered,
+                                     const std::vector<std::uint8_t>& left_out) {
+  std::vector<std::uint8_t> kept(covered.size(), 0);
+  for (std::size_t k = 0; k < kept.size(); ++k) kept[k] = covered[k] != 0 && left_out[k] == 0 ? 1 : 0;
+  return kept;
+}
+
 // A rendering put into the real image's exposure and encoded as 8-bit sRGB.
 struct Encoded {
   ImageU8 image;
   std::vector<std::uint8_t> covered;
 };
 
-Encoded encode(const render::Picture& picture, const ImageU8& real) {
+// The exposure gain is fitted over the covered pixels that `left_out` (when given) does not mark.
+Encoded encode(const render::Picture& picture, const ImageU8& real,
+               const std::vector<std::uint8_t>* left_out = nullptr) {
   Encoded out{ImageU8(real.width(), real.height(), 3, 0), std::vector<std::uint8_t>(picture.face.size(), 0)};
   const auto write = [&](double gain) {
     for (int v = 0; v < real.height(); ++v) {
@@ -84,7 +108,13 @@ Encoded encode(const render::Picture& picture, const ImageU8& real) {
     }
   };
   write(1.0);
-  write(eval::exposureGain(real, out.image, out.covered));
+  if (left_out == nullptr) {
+    write(eval::exposureGain(real, out.image, out.covered));
+    return out;
+  }
+  const std::vector<std::uint8_t> kept = keptPixels(out.covered, *left_out);
+  write(eval::exposureGain(real, out.image, kept));
+  out.covered = kept;
   return out;
 }
 
@@ -112,8 +142,124 @@ struct Tally {
   }
 };
 
+// The labelled moving objects a static score leaves out (--boxes, --tracks).
+struct MovingBoxes {
+  datasets::KittiBoxLabels labels;
+  std::set<int> tracks;
+  int frame_offset = 0;
+  int padding_px = 4;
+  // The pixels of recording frame `frame`'s picture inside the tracks' boxes.
+  [[nodiscard]] std::vector<std::uint8_t> leftOut(std::size_t frame, int width, int height) const {
+    const long long label_frame = static_cast<long long>(frame) - frame_offset;
+    if (label_frame < 0) return std::vector<std::uint8_t>(static_cast<std::size_t>(width * height), 0);
+    return pixelsInBoxes(labels, tracks, static_cast<std::size_t>(label_frame), width, height, padding_px);
+  }
+};
+
+Result<std::optional<MovingBoxes>> readMovingBoxes(const TextureEvalFlags& flags) {
+  if (flags.boxes.empty()) return std::optional<MovingBoxes>{};
+  auto labels = datasets::readKittiBoxes(flags.boxes);
+  if (!labels) return labels.status();
+  if (!labels->has_tracks) {
+    return invalidArgument(
+        fmt::format("{}: object labels have no tracks; --boxes needs KITTI tracking labels "
+                    "(label_02)",
+                    flags.boxes));
+  }
+  auto tracks = parseTrackList(flags.tracks, *labels);
+  if (!tracks) return Status(tracks.status().code(), "--tracks: " + tracks.status().message());
+  for (const int id : *tracks) {
+    const bool labelled = std::any_of(labels->boxes.begin(), labels->boxes.end(),
+                                      [id](const datasets::KittiBox& b) { return b.track_id == id; });
+    if (!labelled) return invalidArgument(fmt::format("--tracks: {} has no track {}", flags.boxes, id));
+  }
+  return std::optional<MovingBoxes>(
+      MovingBoxes{std::move(*labels), std::move(*tracks), flags.box_frame_offset, flags.box_padding_px});
+}
+
+// Scores of the mesh and the splats, over every covered pixel and over the static scene.
+struct Tallies {
+  Tally mesh, splats, static_mesh, static_splats;
+  double left_out = 0.0;  // covered mesh pixels inside the moving boxes, summed
+  double covered = 0.0;   // covered mesh pixels, summed
+};
+
+// Renders the run's mesh and splats at one held-out view and scores them against its image; writes
+// the pictures into `pictures` when it is not empty. Returns the view's JSON row.
+Json scoreView(const ColouredMesh& mesh, const CameraView& camera, const Isometry3d& T_W_L, std::size_t frame,
+               const TextureEvalFlags& flags, const std::optional<MovingBoxes>& moving, Tallies& tallies) {
+  render::View view;
+  view.camera = camera.camera;
+  view.T_W_C = T_W_L * camera.T_L_C;
+  const render::Picture mesh_picture =
+      render::rasterize({mesh.arrays.vertices, mesh.arrays.triangles, mesh.colours}, view);
+  const render::Picture splat_picture = render::splat(mesh.arrays.vertices, mesh.colours, flags.splat_radius_m, view);
+  const Encoded rendered = encode(mesh_picture, camera.image);
+  const Encoded splats = encode(splat_picture, camera.image);
+  const eval::TextureScore m = eval::compareTexture(camera.image, rendered.image, rendered.covered);
+  const eval::TextureScore s = eval::compareTexture(camera.image, splats.image, splats.covered);
+  tallies.mesh.add(m);
+  tallies.splats.add(s);
+  const auto score = [](const eval::TextureScore& t) {
+    return Json{{"psnr_db", t.psnr_db}, {"ssim", t.ssim}, {"covered", t.covered}};
+  };
+  Json row{{"frame", frame}, {"mesh", score(m)}, {"splats", score(s)}};
+  if (moving) {
+    const std::vector<std::uint8_t> left_out = moving->leftOut(frame, camera.image.width(), camera.image.height());
+    const Encoded rendered_static = encode(mesh_picture, camera.image, &left_out);
+    const Encoded splats_static = encode(splat_picture, camera.image, &left_out);
+    const eval::TextureScore ms = eval::compareTexture(camera.image, rendered_static.image, rendered_static.covered);
+    const eval::TextureScore ss = eval::compareTexture(camera.image, splats_static.image, splats_static.covered);
+    tallies.static_mesh.add(ms);
+    tallies.static_splats.add(ss);
+    tallies.covered += static_cast<double>(m.pixels);
+    tallies.left_out += static_cast<double>(m.pixels - ms.pixels);
+    row["static"] = {{"mesh", score(ms)}, {"splats", score(ss)}};
+  }
+  if (!flags.pictures.empty()) {
+    const fs::path dir(flags.pictures);
+    for (const auto& [name, image] :
+         {std::pair{"mesh", &rendered.image}, std::pair{"splats", &splats.image}, std::pair{"real", &camera.image}}) {
+      if (Status st = io::writePng(dir / fmt::format("{:06d}_{}.png", frame, name), *image); !st.isOk()) {
+        log::warn("{}", st.message());
+      }
+    }
+  }
+  return row;
+}
+
+void printRow(const std::string& name, const Json& j) {
+  fmt::print("{:<34} {:>10.2f} {:>8.4f} {:>8.1f}%\n", name, j["psnr_db"].is_null() ? 0.0 : j["psnr_db"].get<double>(),
+             j["ssim"].is_null() ? 0.0 : j["ssim"].get<double>(), 100.0 * j["covered"].get<double>());
+}
+
+// Prints the table and returns the scores' JSON (the static part with --boxes).
+Json report(const Tallies& tallies, const TextureEvalFlags& flags, const std::optional<MovingBoxes>& moving) {
+  Json j{{"mesh", tallies.mesh.json()}, {"splats", tallies.splats.json()}};
+  fmt::print("{:<34} {:>10} {:>8} {:>9}\n", "", "PSNR (dB)", "SSIM", "covered");
+  printRow("textured mesh", j["mesh"]);
+  printRow(fmt::format("point splats ({:.2f} m)", flags.splat_radius_m), j["splats"]);
+  if (moving) {
+    const double share = tallies.covered > 0.0 ? tallies.left_out / tallies.covered : 0.0;
+    j["static"] = {{"tracks", moving->tracks},
+                   {"boxes", flags.boxes},
+                   {"box_frame_offset", moving->frame_offset},
+                   {"box_padding_px", moving->padding_px},
+                   {"left_out", share},
+                   {"mesh", tallies.static_mesh.json()},
+                   {"splats", tallies.static_splats.json()}};
+    printRow("textured mesh, static scene", j["static"]["mesh"]);
+    printRow(fmt::format("point splats ({:.2f} m), static scene", flags.splat_radius_m), j["static"]["splats"]);
+    fmt::print("static scene: the 2-D boxes of tracks {} ({}) left out: {:.1f}% of the mesh's covered pixels\n",
+               fmt::join(moving->tracks, ","), flags.boxes, 100.0 * share);
+  }
+  return j;
+}
+
 int runTextureEval(const TextureEvalFlags& flags) {
   const fs::path run(flags.run);
+  auto moving = readMovingBoxes(flags);
+  if (!moving) return fail(moving.status());
   datasets::DatasetOptions options;
   options.load_images = true;
   auto opened = openRunDataset(run, flags.dataset, options);
@@ -128,7 +274,7 @@ int runTextureEval(const TextureEvalFlags& flags) {
   const datasets::Dataset& d = *opened->dataset;
   if (!flags.pictures.empty()) fs::create_directories(flags.pictures);
 
-  Tally mesh_tally, splat_tally;
+  Tallies tallies;
   Json views = Json::array();
   ProgressLine progress("rendering", "views");
   for (std::size_t i = 0; i < d.size(); ++i) {
@@ -143,51 +289,19 @@ int runTextureEval(const TextureEvalFlags& flags) {
       log::warn("frame {} skipped: no colour image", frame->index);
       continue;
     }
-    render::View view;
-    view.camera = camera->camera;
-    view.T_W_C = opened->trajectory[i] * camera->T_L_C;
-    const Encoded rendered =
-        encode(render::rasterize({mesh->arrays.vertices, mesh->arrays.triangles, mesh->colours}, view), camera->image);
-    const Encoded splats =
-        encode(render::splat(mesh->arrays.vertices, mesh->colours, flags.splat_radius_m, view), camera->image);
-    const eval::TextureScore m = eval::compareTexture(camera->image, rendered.image, rendered.covered);
-    const eval::TextureScore s = eval::compareTexture(camera->image, splats.image, splats.covered);
-    mesh_tally.add(m);
-    splat_tally.add(s);
-    views.push_back({{"frame", frame->index},
-                     {"mesh", {{"psnr_db", m.psnr_db}, {"ssim", m.ssim}, {"covered", m.covered}}},
-                     {"splats", {{"psnr_db", s.psnr_db}, {"ssim", s.ssim}, {"covered", s.covered}}}});
-    if (!flags.pictures.empty()) {
-      const fs::path dir(flags.pictures);
-      for (const auto& [name, image] : {std::pair{"mesh", &rendered.image}, std::pair{"splats", &splats.image},
-                                        std::pair{"real", &camera->image}}) {
-        if (Status st = io::writePng(dir / fmt::format("{:06d}_{}.png", frame->index, name), *image); !st.isOk()) {
-          log::warn("{}", st.message());
-        }
-      }
-    }
+    views.push_back(scoreView(*mesh, *camera, opened->trajectory[i], frame->index, flags, *moving, tallies));
     progress.update(i + 1, d.size());
   }
   progress.finish();
-  if (mesh_tally.views == 0)
+  if (tallies.mesh.views == 0)
     return fail(notFound(fmt::format("{}: no held-out view could be rendered", d.root().string())));
-  const Json mj = mesh_tally.json();
-  const Json sj = splat_tally.json();
-  fmt::print("{} held-out views (every {}th frame) of {}\n", mesh_tally.views, holdout, d.root().string());
-  fmt::print("{:<28} {:>10} {:>8} {:>9}\n", "", "PSNR (dB)", "SSIM", "covered");
-  const auto row = [](const char* name, const Json& j) {
-    fmt::print("{:<28} {:>10.2f} {:>8.4f} {:>8.1f}%\n", name, j["psnr_db"].is_null() ? 0.0 : j["psnr_db"].get<double>(),
-               j["ssim"].is_null() ? 0.0 : j["ssim"].get<double>(), 100.0 * j["covered"].get<double>());
-  };
-  row("textured mesh", mj);
-  row(fmt::format("point splats ({:.2f} m)", flags.splat_radius_m).c_str(), sj);
+  fmt::print("{} held-out views (every {}th frame) of {}\n", tallies.mesh.views, holdout, d.root().string());
+  Json j = report(tallies, flags, *moving);
   if (!flags.json.empty()) {
-    Json j{{"run", flags.run},
-           {"holdout", holdout},
-           {"mesh", mj},
-           {"splats", sj},
-           {"splat_radius_m", flags.splat_radius_m},
-           {"views", views}};
+    j["run"] = flags.run;
+    j["holdout"] = holdout;
+    j["splat_radius_m"] = flags.splat_radius_m;
+    j["views"] = std::move(views);
     const std::string text = j.dump(2) + "\n";
     if (Status st = io::writeFileAtomic(flags.json, std::as_bytes(std::span(text.data(), text.size()))); !st.isOk()) {
       return fail(st);
@@ -215,6 +329,22 @@ void addEvalTextureCommand(CLI::App& eval, int& exit_code) {
       ->check(within(1e-4, 10.0));
   cmd->add_option("--pictures", flags->pictures, "Also write the rendered and real pictures into this folder");
   cmd->add_option("--json", flags->json, "Also write the scores (and per view) to this JSON file");
+  auto* boxes = cmd->add_option("--boxes", flags->boxes,
+                                "KITTI tracking labels (label_02): also score the static scene, leaving out the "
+                                "pixels inside the 2-D boxes of --tracks (the cars that drive through the recording, "
+                                "which a map of what stays does not hold)");
+  auto* tracks = cmd->add_option("--tracks", flags->tracks,
+                                 "--boxes: the track ids to leave out, comma-separated (0,1), or 'all'; required "
+                                 "with --boxes");
+  boxes->needs(tracks);
+  tracks->needs(boxes);
+  cmd->add_option("--box-frame-offset", flags->box_frame_offset,
+                  "--boxes: the boxes of label frame f belong to recording frame f + K")
+      ->capture_default_str()
+      ->check(CLI::Range(-100000, 100000));
+  cmd->add_option("--box-padding", flags->box_padding_px, "--boxes: grow each 2-D box by this many pixels a side")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 1000));
   cmd->callback([flags, &exit_code] { exit_code = runTextureEval(*flags); });
 }
 

@@ -6,6 +6,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <map>
 #include <numbers>
@@ -31,8 +32,8 @@ Isometry3d lidarFromCamera() {
 // A car 4 m long, 1.6 m wide, 1.5 m high, its bottom 10 m ahead and 1.7 m below the LiDAR, its
 // length along the LiDAR's x (rotation_y = -pi/2 turns the camera's x onto its z).
 datasets::KittiBox carBox(std::size_t frame, int track) {
-  const std::string row = fmt::format("{} {} Car 0 0 0 0 0 100 100 1.5 1.6 4.0 0 1.7 10 {}", frame, track,
-                                      -0.5 * std::numbers::pi);
+  const std::string row =
+      fmt::format("{} {} Car 0 0 0 0 0 100 100 1.5 1.6 4.0 0 1.7 10 {}", frame, track, -0.5 * std::numbers::pi);
   auto box = datasets::parseKittiBoxRow(row, /*tracking=*/true, 0, "test:1");
   EXPECT_TRUE(box.isOk()) << box.status().toString();
   return *box;
@@ -53,6 +54,43 @@ PointCloud cloudOf(const std::vector<Eigen::Vector3f>& points) {
     cloud.intensity.push_back(static_cast<float>(i));  // which point survived
   }
   return cloud;
+}
+
+// 2-D boxes (artemis eval texture --boxes): the listed tracks' boxes of the frame, grown by the
+// padding and clipped to the picture; nothing of other frames or tracks.
+TEST(BoxExclusion, PixelsInBoxesAreTheGrownClippedBoxesOfTheFrame) {
+  const auto row = [](std::size_t frame, int track, double x1, double y1, double x2, double y2) {
+    auto box = datasets::parseKittiBoxRow(
+        fmt::format("{} {} Car 0 0 0 {} {} {} {} 1.5 1.6 4.0 0 1.7 10 0", frame, track, x1, y1, x2, y2), true, 0,
+        "test:1");
+    EXPECT_TRUE(box.isOk()) << box.status().toString();
+    return *box;
+  };
+  const auto labels = labelsOf(
+      {row(2, 0, 10, 5, 19, 8), row(2, 1, 0, 0, 39, 29), row(3, 0, 30, 20, 60, 40), row(2, 0, -50, -50, -10, -10)});
+  const int w = 40;
+  const int h = 30;
+  const auto count = [](const std::vector<std::uint8_t>& m) { return std::count(m.begin(), m.end(), 1); };
+  const auto at = [w](const std::vector<std::uint8_t>& m, int u, int v) {
+    return m[static_cast<std::size_t>(v * w + u)];
+  };
+  // Track 0 in frame 2: columns 10-19, rows 5-8 (the box off the picture adds nothing).
+  const auto plain = pixelsInBoxes(labels, {0}, 2, w, h, 0);
+  ASSERT_EQ(plain.size(), static_cast<std::size_t>(w * h));
+  EXPECT_EQ(count(plain), 10 * 4);
+  EXPECT_EQ(at(plain, 10, 5), 1);
+  EXPECT_EQ(at(plain, 19, 8), 1);
+  EXPECT_EQ(at(plain, 20, 8), 0);
+  EXPECT_EQ(at(plain, 9, 5), 0);
+  // Grown by 2 px a side: columns 8-21, rows 3-10.
+  EXPECT_EQ(count(pixelsInBoxes(labels, {0}, 2, w, h, 2)), 14 * 8);
+  // Track 0 in frame 3 runs off the picture: clipped to columns 30-39, rows 20-29.
+  EXPECT_EQ(count(pixelsInBoxes(labels, {0}, 3, w, h, 0)), 10 * 10);
+  // No box of the listed tracks in that frame: nothing.
+  EXPECT_EQ(count(pixelsInBoxes(labels, {0}, 4, w, h, 0)), 0);
+  EXPECT_EQ(count(pixelsInBoxes(labels, {7}, 2, w, h, 0)), 0);
+  // Both tracks: the whole picture.
+  EXPECT_EQ(count(pixelsInBoxes(labels, {0, 1}, 2, w, h, 0)), w * h);
 }
 
 TEST(BoxExclusion, DropsThePointsInsideTheGrownBoxAndKeepsTheRest) {

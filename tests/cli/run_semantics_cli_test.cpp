@@ -299,5 +299,53 @@ TEST(EvalTexture, ScoresHeldOutViewsAndTheSplatBaseline) {
   EXPECT_NE(grey.err.find("no vertex colours"), std::string::npos) << grey.err;
 }
 
+// The static scene: the pixels inside the listed tracks' 2-D boxes are left out, and only those.
+TEST(EvalTexture, StaticSceneLeavesOutTheBoxedPixelsOfTheListedTracks) {
+  test::TempDir tmp;
+  const fs::path sim = simulateFourFrames(tmp);
+  const fs::path out = tmp / "run";
+  ASSERT_EQ(runCli("run " + sim.string() + " --texture-holdout 2 --out " + out.string()).exit_code, 0);
+  // Held out: frames 1 and 3. Track 0 covers the left half of both; track 5, not listed, the right half.
+  const fs::path labels = tmp / "labels.txt";
+  std::ofstream(labels) << "1 0 Car 0 0 0 0 0 620 374 1.5 1.6 4 0 1.7 10 0\n"
+                           "1 5 Car 0 0 0 621 0 1241 374 1.5 1.6 4 0 1.7 10 0\n"
+                           "3 0 Car 0 0 0 0 0 620 374 1.5 1.6 4 0 1.7 10 0\n";
+  const auto r = runCli(fmt::format("eval texture {} --boxes {} --tracks 0 --box-padding 0 --pictures {} --json {}",
+                                    out.string(), labels.string(), (tmp / "pics").string(), (tmp / "t.json").string()));
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("static scene"), std::string::npos) << r.out;
+  const auto j = readJson(tmp / "t.json");
+  ASSERT_TRUE(j.contains("static"));
+  // Covered pixels of the mesh pictures, counted independently: non-black, left and right of x = 620.
+  double left = 0.0;
+  double right = 0.0;
+  double all = 0.0;
+  for (const int frame : {1, 3}) {
+    auto picture = io::readPng8(tmp / "pics" / fmt::format("{:06d}_mesh.png", frame), 3);
+    ASSERT_TRUE(picture.isOk());
+    for (int v = 0; v < picture->height(); ++v) {
+      for (int u = 0; u < picture->width(); ++u) {
+        if (picture->at(u, v, 0) == 0 && picture->at(u, v, 1) == 0 && picture->at(u, v, 2) == 0) continue;
+        (u <= 620 ? left : right) += 1.0;
+      }
+    }
+    all += static_cast<double>(picture->width() * picture->height());
+  }
+  ASSERT_GT(left, 1000.0);
+  ASSERT_GT(right, 1000.0);
+  EXPECT_NEAR(j["static"]["left_out"].get<double>(), left / (left + right), 0.01);
+  EXPECT_NEAR(j["static"]["mesh"]["covered"].get<double>(), right / all, 0.01);
+  EXPECT_NEAR(j["mesh"]["covered"].get<double>(), (left + right) / all, 0.01);
+  EXPECT_GT(j["static"]["mesh"]["psnr_db"].get<double>(), 10.0);
+  EXPECT_EQ(j["static"]["tracks"], nlohmann::json::array({0}));
+  // A track the labels lack, --boxes without --tracks, object labels: clear errors.
+  const auto absent = runCli(fmt::format("eval texture {} --boxes {} --tracks 7", out.string(), labels.string()));
+  EXPECT_NE(absent.exit_code, 0);
+  EXPECT_NE(absent.err.find("no track 7"), std::string::npos) << absent.err;
+  const auto alone = runCli(fmt::format("eval texture {} --boxes {}", out.string(), labels.string()));
+  EXPECT_NE(alone.exit_code, 0);
+  EXPECT_NE(alone.err.find("--tracks"), std::string::npos) << alone.err;
+}
+
 }  // namespace
 }  // namespace artemis
