@@ -280,6 +280,7 @@ void RangeImage::load(ArchiveReader& in) {
   for (std::size_t k = 0; k < returns_.size(); ++k) returns_[k] = {directions[k], ranges[k], bins[k]};
   grazing_capacity_ = returns_.size();
   grazing_ = std::make_unique<std::atomic<std::uint8_t>[]>(std::max<std::size_t>(grazing_capacity_, 1));
+  normals_ = std::make_unique<Eigen::Vector3f[]>(std::max<std::size_t>(grazing_capacity_, 1));
   for (std::size_t k = 0; k < returns_.size(); ++k) grazing_[k].store(0, std::memory_order_relaxed);
 }
 

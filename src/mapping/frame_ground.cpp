@@ -8,6 +8,10 @@
 namespace artemis::mapping {
 
 FrameGround::FrameGround(const PointCloud& points_L, const Isometry3d& T_W_L, const FrameGroundParams& params)
+    : FrameGround(std::span<const Eigen::Vector3f>(points_L.points), T_W_L, params) {}
+
+FrameGround::FrameGround(std::span<const Eigen::Vector3f> points_L, const Isometry3d& T_W_L,
+                         const FrameGroundParams& params)
     : params_(params) {
   if (!(params.cell_m > 0.0) || !(params.radius_m > params.cell_m) || params.search_cells < 0 ||
       params.radius_m / params.cell_m > 4096.0) {
@@ -25,7 +29,7 @@ FrameGround::FrameGround(const PointCloud& points_L, const Isometry3d& T_W_L, co
   const auto up_t = static_cast<float>(T_W_L.translation().z());
   const auto inv_cell = static_cast<float>(1.0 / params.cell_m);
   const int half = side_ / 2;
-  for (const Eigen::Vector3f& p : points_L.points) {
+  for (const Eigen::Vector3f& p : points_L) {
     const int x = static_cast<int>(std::floor(p.x() * inv_cell)) + half;
     const int y = static_cast<int>(std::floor(p.y() * inv_cell)) + half;
     if (x < 0 || y < 0 || x >= side_ || y >= side_) continue;

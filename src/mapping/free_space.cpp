@@ -20,6 +20,12 @@ constexpr float kAzimuthStepDeg = 0.2f;
 constexpr float kElevationStepDeg = 0.25f;
 // A plane whose normal is this close to the world's vertical is level ground (~45 deg).
 constexpr float kLevelNormalZ = 0.7f;
+// Level points at most this far above the lowest returns nearby are ground (a kerb, a verge, a
+// pavement); a car's bonnet (~0.8 m) and roof (~1.4 m) are not.
+constexpr float kGroundBandM = 0.5f;
+// A grazing ray says nothing of the points within this distance (plus its `lateral`) of the surface
+// it skims: a wall's bumps, a kerb beside the road it skims.
+constexpr float kSkimBandM = 0.25f;
 // A ray meets its surface at grazing incidence where the range grows by more than this many times
 // the distance to the neighbouring rays (~72 deg from the normal).
 constexpr float kGrazingSlope = 3.0f;
@@ -51,6 +57,7 @@ CarveStats FreeSpaceCarver::carve(const std::vector<Eigen::Vector3f>& points_L, 
   current_.t_L_W = -(current_.R_L_W * sensor_W);
   current_.image->build(points_L, static_cast<float>(params_.min_return_range_m), std::numeric_limits<float>::max(),
                         kGrazingSlope);
+  ground_ = FrameGround(points_L, T_W_L);
   const std::array<const Sweep*, 1> now{&current_};
   countMisses(now, Tested::kOld, voxelsNear(sensor_W, map), map, flags, stats);
   if (!earlier_.empty()) {
@@ -168,14 +175,15 @@ std::pair<std::size_t, std::size_t> FreeSpaceCarver::countVoxel(std::span<const 
     PointEvidence& e = v.evidence[j];
     const bool created = e.last_hit == frame && e.hits == 1;
     if (tested == Tested::kNew ? !created : (e.hits >= params_.confirm_hits || e.last_hit == frame)) continue;
+    std::optional<bool> level;  // p lies on level ground, once a sweep tests it
     for (const Sweep* sweep : sweeps) {
       const Eigen::Vector3f p_L = sweep->R_L_W * v.points[j] + sweep->t_L_W;
       const float r = p_L.norm();
       if (!(r >= min_range) || r > max_range) continue;
       ++count;
       if (!n_W) n_W = planeOf(v);
-      const bool level = std::abs(n_W->z()) > kLevelNormalZ;
-      if (!seenThrough(*sweep->image, p_L, sweep->R_L_W * *n_W, sweep->R_L_W.col(2), level)) continue;
+      if (!level) level = onLevelGround(v.points[j], *n_W);
+      if (!seenThrough(*sweep->image, p_L, sweep->R_L_W * *n_W, sweep->R_L_W.col(2), *level)) continue;
       ++seen;
       if (e.misses < 255) ++e.misses;
     }
@@ -186,6 +194,13 @@ std::pair<std::size_t, std::size_t> FreeSpaceCarver::countVoxel(std::span<const 
     }
   }
   return {count, seen};
+}
+
+bool FreeSpaceCarver::onLevelGround(const Eigen::Vector3f& p_W, const Eigen::Vector3f& n_W) const {
+  // A level plane near the lowest returns around it: the road, a pavement, a verge; not a car's
+  // roof or bonnet, whose points rays pass over on their way to the road beyond. Unknown height
+  // (no return nearby): ground, which keeps the point.
+  return std::abs(n_W.z()) > kLevelNormalZ && !(ground_.heightAbove(p_W) > kGroundBandM);
 }
 
 Eigen::Vector3f FreeSpaceCarver::planeOf(Voxel& v) const {
@@ -226,9 +241,18 @@ bool FreeSpaceCarver::seenThrough(const detail::RangeImage& image, const Eigen::
       return;
     }
     // No plane, or one the ray grazes: the ray passes beside p. It counts when it comes as near as
-    // `lateral` and ends well behind on a surface it meets squarely, unless p lies on level ground,
-    // where a ray skimming the road to a car behind says nothing about the road.
-    if (level || image.grazing(q)) return;
+    // `lateral` and ends well behind, unless p lies on level ground, where a ray skimming the road
+    // to a car behind says nothing about the road.
+    if (level) return;
+    // A ray that skims a surface to its end (a wall it runs along, the road far ahead) says nothing
+    // of the points on that surface, but it passes through what stands off it: the remnant of a car
+    // above the road. Where the skimmed surface is unknown, nothing.
+    if (image.grazing(q)) {
+      const Eigen::Vector3f n_q = image.skimmedNormal(q);
+      if (n_q == Eigen::Vector3f::Zero() || std::abs(n_q.dot(p_L - q.direction * q.range_m)) <= kSkimBandM + lateral) {
+        return;
+      }
+    }
     const float t = q.direction.dot(p_L);  // nearest approach
     if (!(t > 0.0f) || q.range_m <= t + beside || (p_L - q.direction * t).squaredNorm() > lateral2) return;
     // A ray that passes above p on its way down would, had p been on level ground, have met that

@@ -90,6 +90,7 @@ void RangeImage::build(const std::vector<Eigen::Vector3f>& points_L, float min_r
   if (grazing_capacity_ < returns_.size()) {
     grazing_capacity_ = returns_.size() + returns_.size() / 4;
     grazing_ = std::make_unique<std::atomic<std::uint8_t>[]>(grazing_capacity_);
+    normals_ = std::make_unique<Eigen::Vector3f[]>(grazing_capacity_);
   }
   for (std::size_t k = 0; k < returns_.size(); ++k) grazing_[k].store(0, std::memory_order_relaxed);
   findFarthest();
@@ -157,20 +158,70 @@ float RangeImage::leastSlope(std::size_t k, int row, int col, int dr, int dc, in
   return least;
 }
 
+std::int64_t RangeImage::nearestAlong(std::size_t k, int row, int col, int dr, int dc, int sign, int reach) const {
+  const Return& a = returns_[k];
+  const int spread = dr != 0 ? 1 : 0;  // across the beams, the neighbour may sit one azimuth bin aside
+  for (int step = 1; step <= reach; ++step) {
+    const int r = row + sign * step * dr;
+    if (r < 0 || r >= rows_) return -1;
+    std::int64_t best = -1;
+    float best_cos = -2.0f;
+    for (int side = -spread; side <= spread; ++side) {
+      const int c = (col + sign * step * dc + side + 2 * cols_) % cols_;
+      const auto bin = static_cast<std::size_t>(r) * static_cast<std::size_t>(cols_) + static_cast<std::size_t>(c);
+      for (std::uint32_t j = offsets_[bin]; j < offsets_[bin + 1]; ++j) {
+        const float cos = a.direction.dot(returns_[j].direction);
+        if (j != k && cos > best_cos) {
+          best_cos = cos;
+          best = j;
+        }
+      }
+    }
+    if (best >= 0) return best;
+  }
+  return -1;
+}
+
+Eigen::Vector3f RangeImage::tangent(std::size_t k, int row, int col, int dr, int dc, int reach) const {
+  const std::int64_t before = nearestAlong(k, row, col, dr, dc, -1, reach);
+  const std::int64_t after = nearestAlong(k, row, col, dr, dc, 1, reach);
+  const auto point = [this](std::size_t j) -> Eigen::Vector3f { return returns_[j].direction * returns_[j].range_m; };
+  if (before >= 0 && after >= 0)
+    return point(static_cast<std::size_t>(after)) - point(static_cast<std::size_t>(before));
+  if (after >= 0) return point(static_cast<std::size_t>(after)) - point(k);
+  if (before >= 0) return point(k) - point(static_cast<std::size_t>(before));
+  return Eigen::Vector3f::Zero();
+}
+
+std::uint8_t RangeImage::classify(std::size_t k) const {
+  // Beams lie up to ~0.5 deg apart (two or three elevation bins); a beam's successive returns
+  // lie in adjacent azimuth bins.
+  const int row = static_cast<int>(returns_[k].bin) / cols_;
+  const int col = static_cast<int>(returns_[k].bin) % cols_;
+  const float along = leastSlope(k, row, col, 0, 1, 2);
+  const float across = leastSlope(k, row, col, 1, 0, 3);
+  const bool grazing = !(along <= grazing_slope_) || !(across <= grazing_slope_);
+  if (grazing) {
+    const Eigen::Vector3f n = tangent(k, row, col, 0, 1, 2).cross(tangent(k, row, col, 1, 0, 3));
+    const float length = n.norm();
+    normals_[k] = length > 1e-6f ? Eigen::Vector3f(n / length) : Eigen::Vector3f::Zero();
+  }
+  return grazing ? 2 : 1;
+}
+
 bool RangeImage::grazing(const Return& q) const {
   const auto k = static_cast<std::size_t>(&q - returns_.data());
-  std::uint8_t known = grazing_[k].load(std::memory_order_relaxed);
+  std::uint8_t known = grazing_[k].load(std::memory_order_acquire);
   if (known == 0) {
-    // Beams lie up to ~0.5 deg apart (two or three elevation bins); a beam's successive returns
-    // lie in adjacent azimuth bins.
-    const int row = static_cast<int>(q.bin) / cols_;
-    const int col = static_cast<int>(q.bin) % cols_;
-    const float along = leastSlope(k, row, col, 0, 1, 2);
-    const float across = leastSlope(k, row, col, 1, 0, 3);
-    known = !(along <= grazing_slope_) || !(across <= grazing_slope_) ? 2 : 1;
-    grazing_[k].store(known, std::memory_order_relaxed);  // any thread works out the same value
+    known = classify(k);
+    grazing_[k].store(known, std::memory_order_release);  // any thread works out the same value
   }
   return known == 2;
+}
+
+Eigen::Vector3f RangeImage::skimmedNormal(const Return& q) const {
+  if (!grazing(q)) return Eigen::Vector3f::Zero();
+  return normals_[static_cast<std::size_t>(&q - returns_.data())];
 }
 
 }  // namespace artemis::mapping::detail

@@ -11,6 +11,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <Eigen/Geometry>
 
 namespace artemis {
 class ArchiveWriter;
@@ -42,6 +43,11 @@ class RangeImage {
   // along either axis; a return with no neighbour on some axis counts as grazing (unknown).
   // Worked out when first asked (few returns ever are) and kept; thread-safe.
   [[nodiscard]] bool grazing(const Return& q) const;
+  // The normal (unit, either sign) of the surface a grazing return q skims, from its nearest
+  // neighbouring returns along the beam and across the beams; zero where a side lacks a
+  // neighbour or they lie on a line (unknown), and for a return that is not grazing. Worked out
+  // with grazing() and kept; thread-safe.
+  [[nodiscard]] Eigen::Vector3f skimmedNormal(const Return& q) const;
   [[nodiscard]] bool empty() const { return returns_.empty(); }
   // Checkpoints (mapping/checkpoint.cpp): the built image; load() into one made with the same steps.
   void save(ArchiveWriter& out) const;
@@ -85,6 +91,14 @@ class RangeImage {
   // The least range slope from return k (in bin row, col) to a return in the bins (row + dr, col + dc)
   // for steps 1..reach along (dr, dc) and the opposite way; infinity when there is none.
   [[nodiscard]] float leastSlope(std::size_t k, int row, int col, int dr, int dc, int reach) const;
+  // The nearest return (by direction) to return k in the first occupied bins (row + s dr, col + s
+  // dc), s = sign * 1..reach; -1 when none.
+  [[nodiscard]] std::int64_t nearestAlong(std::size_t k, int row, int col, int dr, int dc, int sign, int reach) const;
+  // The tangent of the surface at return k along (dr, dc), from its neighbours on both sides (or
+  // one); zero when it has none.
+  [[nodiscard]] Eigen::Vector3f tangent(std::size_t k, int row, int col, int dr, int dc, int reach) const;
+  // Works out grazing_[k] (and normals_[k] for a grazing return).
+  std::uint8_t classify(std::size_t k) const;
   void findFarthest();
 
   float azimuth_step_;    // rad
@@ -108,6 +122,7 @@ class RangeImage {
   float grazing_slope_ = 0.0f;
   // Per return: 0 not worked out yet, 1 not grazing, 2 grazing.
   std::unique_ptr<std::atomic<std::uint8_t>[]> grazing_;
+  std::unique_ptr<Eigen::Vector3f[]> normals_;  // per return, set before grazing_ says 2 (release)
   std::size_t grazing_capacity_ = 0;
 };
 

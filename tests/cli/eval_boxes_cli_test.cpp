@@ -123,7 +123,9 @@ TEST_F(CliEvalBoxes, ScoresMeshAndMasksWithAndWithoutMovingTracks) {
     }
   }
   EXPECT_LT(mesh_car["recall"].get<double>(), still["mesh"]["classes"]["car"]["recall"].get<double>() - 0.1);
-  EXPECT_GT(mesh_car["iou"].get<double>(), 0.3);
+  // Over all tracks the mesh's car is mostly the parked cars: the more of the driving ones free space
+  // carves, the lower this (0.30 before the roofs of passing cars were carved, 0.299 since).
+  EXPECT_GT(mesh_car["iou"].get<double>(), 0.25);
   EXPECT_GT(all["mesh"]["coverage"].get<double>(), 0.8);
 
   // Boxes matched one frame later: other figures, the same frames.

@@ -9,6 +9,7 @@
 // array; nothing is kept between frames.
 
 #include <cstddef>
+#include <span>
 #include <vector>
 
 #include <Eigen/Core>
@@ -28,6 +29,7 @@ class FrameGround {
  public:
   FrameGround() = default;
   FrameGround(const PointCloud& points_L, const Isometry3d& T_W_L, const FrameGroundParams& params = {});
+  FrameGround(std::span<const Eigen::Vector3f> points_L, const Isometry3d& T_W_L, const FrameGroundParams& params = {});
 
   [[nodiscard]] bool empty() const { return lowest_.empty(); }
   // p_W's height above the ground nearby; NaN outside the grid or where no return is near.

@@ -18,13 +18,21 @@
 // passes 5 cm above a road point at 20 m meets the road half a metre later, and would otherwise
 // count against it. A ray that meets the plane at grazing incidence (below min_incidence_cos), or
 // passes a point whose voxel has no plane (not meshed yet, on a line, or scattered), is judged
-// by how near it passes p: within `lateral`, ending beside_margin behind, on a surface that it
-// meets squarely itself (see RangeImage: a ray that skims a wall or the road ends on it at grazing
-// incidence, and says nothing about what it skimmed) and, if it passes above p on its way down,
+// by how near it passes p: within `lateral`, ending beside_margin behind, not on a surface it skims
+// with p on it (see RangeImage: a ray that skims a wall or the road ends on it at grazing
+// incidence, and says nothing about the points on what it skimmed, within kSkimBandM of that
+// surface's plane, estimated from the neighbouring returns; it does pass through what stands off
+// it, such as a car's remnant above the road far ahead) and, if it passes above p on its way down,
 // beyond where it would have met level ground through p (p may be the floor it skimmed: the road
-// at the foot of a wall). That is how the sides of a car driving ahead,
-// seen edge-on from behind, and the scattered points of its lower body go. Points on level ground
-// are only ever judged by their plane.
+// at the foot of a wall). That is how the sides of a car driving ahead, seen edge-on from behind,
+// and the scattered points of its lower body go. Points on level ground are only ever judged by
+// their plane; level ground is a level plane within kGroundBandM of the lowest returns of the
+// frame nearby (FrameGround), so that the roof and bonnet of a car, over which the rays pass to
+// the road beyond at grazing incidence, are not taken for it.
+//
+// On KITTI drive 0013 (frames 0-49, reference poses) those two rules took the car that overtakes in
+// the right lane from 2,249 mesh vertices 0.3-2.5 m above that lane to 500, rays blocked from
+// 18.1 % to 16.5 %, and held-out PSNR of the static scene from 15.87 to 16.12 dB.
 
 // Thin structures survive in two ways: their points are hit again in most frames that see them,
 // and a point hit in confirm_hits frames is taken as static and never tested again (which also
@@ -51,6 +59,7 @@
 #include <Eigen/Geometry>
 
 #include "artemis/core/transform.hpp"
+#include "artemis/mapping/frame_ground.hpp"
 #include "artemis/mapping/incremental_mesher.hpp"
 #include "artemis/mapping/voxel_map.hpp"
 
@@ -142,6 +151,8 @@ class FreeSpaceCarver {
   std::pair<std::size_t, std::size_t> countVoxel(std::span<const Sweep* const> sweeps, Tested tested,
                                                  std::uint32_t frame, Voxel& v,
                                                  std::vector<std::uint8_t>& remove) const;
+  // Whether p_W, on a voxel plane of normal n_W (zero: none), lies on level ground.
+  [[nodiscard]] bool onLevelGround(const Eigen::Vector3f& p_W, const Eigen::Vector3f& n_W) const;
   // Whether a ray of `image` passes through point p_L whose voxel's plane has normal n_L (sensor
   // frame; zero: no plane).
   // The plane normal of voxel v (world; zero: none): the mesher's, or fitted here alike.
@@ -154,6 +165,7 @@ class FreeSpaceCarver {
   MesherParams mesher_;
   Eigen::AlignedBox3f vehicle_box_L_;
   Sweep current_;
+  FrameGround ground_;         // the current frame's: which level points are ground
   std::deque<Sweep> earlier_;  // the last lookback_frames sweeps, newest first
 };
 
