@@ -48,7 +48,7 @@ test-release:
 # counts):
 # the Release pass runs and asserts them all, and the same code runs under the sanitizers in the
 # shorter pipeline, CLI and module tests. This keeps `make test` within CI's half hour on 2 cores.
-SLOW_TESTS := ^(SimSemantics\.FusionBeatsPerFrameMasksAndLosesNothingOnExactMasks|SimReconstruction\.StreetMeshMatchesTheGroundTruthSurface|KittiReconstruction\..*|RunFolder\..*|KilledWrites\..*
+SLOW_TESTS := ^(SimSemantics\.FusionBeatsPerFrameMasksAndLosesNothingOnExactMasks|SimReconstruction\.(StreetMeshMatchesTheGroundTruthSurface|WithTrafficTheStaticStreetStays)|KittiReconstruction\..*|RunFolder\..*|KilledWrites\..*
 SLOW_TESTS := $(SLOW_TESTS)|CliResume\.KilledAtARandomMomentItResumesToTheSameFiles|CliBag\.RunOnABagMapsWhatTheRecordingItWasMadeFromMaps|CliSimBag\.(TheStreetAsABagMapsAsItsKittiLayout|AviaRosetteIsDeskewedByItsPointTimes)
 SLOW_TESTS := $(SLOW_TESTS)|RenderCli\.(ExportsOpenWithTheirProperties|CarHighlightCoversTheCarsAndLittleElse)
 SLOW_TESTS := $(SLOW_TESTS)|Hardening\.EveryMapperSettingIsCheckedAtAndBeyondBothEnds
