@@ -23,6 +23,8 @@ constexpr float kLevelNormalZ = 0.7f;
 // Level points at most this far above the lowest returns nearby are ground (a kerb, a verge, a
 // pavement); a car's bonnet (~0.8 m) and roof (~1.4 m) are not.
 constexpr float kGroundBandM = 0.5f;
+// A ray passes under a roof point when it passes at least this far below it.
+constexpr float kUnderM = 0.02f;
 // A grazing ray says nothing of the points within this distance (plus its `lateral`) of the surface
 // it skims: a wall's bumps, a kerb beside the road it skims.
 constexpr float kSkimBandM = 0.25f;
@@ -175,15 +177,15 @@ std::pair<std::size_t, std::size_t> FreeSpaceCarver::countVoxel(std::span<const 
     PointEvidence& e = v.evidence[j];
     const bool created = e.last_hit == frame && e.hits == 1;
     if (tested == Tested::kNew ? !created : (e.hits >= params_.confirm_hits || e.last_hit == frame)) continue;
-    std::optional<bool> level;  // p lies on level ground, once a sweep tests it
+    std::optional<Lie> lie;  // how p lies, once a sweep tests it
     for (const Sweep* sweep : sweeps) {
       const Eigen::Vector3f p_L = sweep->R_L_W * v.points[j] + sweep->t_L_W;
       const float r = p_L.norm();
       if (!(r >= min_range) || r > max_range) continue;
       ++count;
       if (!n_W) n_W = planeOf(v);
-      if (!level) level = onLevelGround(v.points[j], *n_W);
-      if (!seenThrough(*sweep->image, p_L, sweep->R_L_W * *n_W, sweep->R_L_W.col(2), *level)) continue;
+      if (!lie) lie = lieOf(v.points[j], *n_W);
+      if (!seenThrough(*sweep->image, p_L, sweep->R_L_W * *n_W, sweep->R_L_W.col(2), *lie)) continue;
       ++seen;
       if (e.misses < 255) ++e.misses;
     }
@@ -196,11 +198,12 @@ std::pair<std::size_t, std::size_t> FreeSpaceCarver::countVoxel(std::span<const 
   return {count, seen};
 }
 
-bool FreeSpaceCarver::onLevelGround(const Eigen::Vector3f& p_W, const Eigen::Vector3f& n_W) const {
-  // A level plane near the lowest returns around it: the road, a pavement, a verge; not a car's
-  // roof or bonnet, whose points rays pass over on their way to the road beyond. Unknown height
-  // (no return nearby): ground, which keeps the point.
-  return std::abs(n_W.z()) > kLevelNormalZ && !(ground_.heightAbove(p_W) > kGroundBandM);
+FreeSpaceCarver::Lie FreeSpaceCarver::lieOf(const Eigen::Vector3f& p_W, const Eigen::Vector3f& n_W) const {
+  if (n_W == Eigen::Vector3f::Zero()) return Lie::kScattered;
+  if (!(std::abs(n_W.z()) > kLevelNormalZ)) return Lie::kUpright;
+  // A level plane near the lowest returns around it is the road, a pavement, a verge; higher up, a
+  // car's roof or bonnet, a wall's top. Unknown height (no return nearby): ground, which keeps it.
+  return ground_.heightAbove(p_W) > kGroundBandM ? Lie::kRoof : Lie::kGround;
 }
 
 Eigen::Vector3f FreeSpaceCarver::planeOf(Voxel& v) const {
@@ -217,7 +220,7 @@ Eigen::Vector3f FreeSpaceCarver::planeOf(Voxel& v) const {
 }
 
 bool FreeSpaceCarver::seenThrough(const detail::RangeImage& image, const Eigen::Vector3f& p_L,
-                                  const Eigen::Vector3f& n_L, const Eigen::Vector3f& up_L, bool level) const {
+                                  const Eigen::Vector3f& n_L, const Eigen::Vector3f& up_L, Lie lie) const {
   const float r = p_L.norm();
   const Eigen::Vector3f d = p_L / r;
   const auto lateral = static_cast<float>(params_.lateral_m + params_.lateral_per_m * r);
@@ -243,11 +246,13 @@ bool FreeSpaceCarver::seenThrough(const detail::RangeImage& image, const Eigen::
     // No plane, or one the ray grazes: the ray passes beside p. It counts when it comes as near as
     // `lateral` and ends well behind, unless p lies on level ground, where a ray skimming the road
     // to a car behind says nothing about the road.
-    if (level) return;
+    if (lie == Lie::kGround) return;
     // A ray that skims a surface to its end (a wall it runs along, the road far ahead) says nothing
-    // of the points on that surface, but it passes through what stands off it: the remnant of a car
-    // above the road. Where the skimmed surface is unknown, nothing.
+    // of the points on that surface. It does pass through what stands off it, a roof or a scattered
+    // remnant above the road; not through an upright surface it runs along (a parked car's side,
+    // past which it reaches the road). Where the skimmed surface is unknown, nothing.
     if (image.grazing(q)) {
+      if (lie == Lie::kUpright) return;
       const Eigen::Vector3f n_q = image.skimmedNormal(q);
       if (n_q == Eigen::Vector3f::Zero() || std::abs(n_q.dot(p_L - q.direction * q.range_m)) <= kSkimBandM + lateral) {
         return;
@@ -255,6 +260,9 @@ bool FreeSpaceCarver::seenThrough(const detail::RangeImage& image, const Eigen::
     }
     const float t = q.direction.dot(p_L);  // nearest approach
     if (!(t > 0.0f) || q.range_m <= t + beside || (p_L - q.direction * t).squaredNorm() > lateral2) return;
+    // A roof is seen through only from below: a ray that passes just over a parked car's roof and
+    // on to the road beyond says nothing of it; one that passes under where a roof was does.
+    if (lie == Lie::kRoof && (q.direction * t - p_L).dot(up_L) > -kUnderM) return;
     // A ray that passes above p on its way down would, had p been on level ground, have met that
     // ground soon after: it must end beyond, or p might be the floor it skimmed.
     const float descent = q.direction.dot(up_L);

@@ -76,7 +76,7 @@ TEST(KittiReconstruction, DriveMeshScoresAtLeast090AtTenCentimetres) {
   // What stays: F1 0.906 at 0.1 m.
   EXPECT_GE((*still_scores)[0].f1, 0.90);
   EXPECT_GE((*still_scores)[1].f1, (*still_scores)[0].f1);
-  // The whole cloud also holds the driving cars, which free space takes out of the map: 0.8989,
+  // The whole cloud also holds the driving cars, which free space takes out of the map: 0.899,
   // 0.9003 before the roofs and sides of passing cars were carved too.
   EXPECT_GE((*scores)[0].f1, 0.895);
   EXPECT_GE((*scores)[1].f1, (*scores)[0].f1);
