@@ -12,7 +12,7 @@ packages=(
   clang libclang-rt-dev
   # core dependencies (DESIGN.md)
   libeigen3-dev libtbb-dev libcgal-dev libembree-dev libnanoflann-dev
-  libstb-dev libpng-dev libtinygltf-dev libcli11-dev libspdlog-dev libfmt-dev
+  libstb-dev libpng-dev zlib1g-dev libtinygltf-dev libcli11-dev libspdlog-dev libfmt-dev
   nlohmann-json3-dev libcpp-httplib-dev wordnet-dev wordnet-base
   # the dense segmenter: OpenCV's dnn and imgproc modules only (not the full libopencv-dev)
   libopencv-dnn-dev libopencv-imgproc-dev
@@ -24,6 +24,8 @@ packages=(
   # interoperability checks (tests load our files with Open3D, and write ROS bags with Debian's
   # own rosbag Python package)
   python3 python3-numpy python3-open3d
+  # the ONNX segmenter's tests write their small models with Debian's onnx package
+  python3-onnx
   python3-rosbag python3-sensor-msgs python3-geometry-msgs python3-nav-msgs python3-tf2-msgs
   # the browser viewer: Node.js installs three.js and the test tools from npm; the browser tests
   # drive Debian's Chromium
@@ -53,9 +55,44 @@ install_npm() {
   npm ci --prefix "$viewer" --no-audit --no-fund --ignore-scripts
 }
 
+# ONNX Runtime for `--segmenter onnx`, which loads it at run time (dlopen; ARTEMIS never links it):
+# the C API headers and the x86-64 Linux library of ORT 1.29 (MIT), as npm's
+# com.github.asus4.onnxruntime ships them, unpacked into third_party/onnxruntime/{include,lib};
+# skipped when that version is present. The package (150 MB, every platform) is checked against
+# its registry checksum; only the headers, the library and the licence are kept (30 MB).
+install_onnxruntime() {
+  local root dest version=0.4.9 sha1=3659f34012db8208ffb7f67d704204cb08792fed tmp tgz headers
+  root="$(cd "$(dirname "$0")/.." && pwd)"
+  dest="$root/third_party/onnxruntime"
+  if [ -f "$dest/VERSION" ] && [ "$(cat "$dest/VERSION")" = "$version" ]; then
+    echo "install-deps: ONNX Runtime headers and library present"
+    return 0
+  fi
+  if [ "$(uname -m)" != x86_64 ]; then
+    echo "install-deps: ONNX Runtime skipped: the package ships an x86-64 Linux library only" >&2
+    return 0
+  fi
+  echo "install-deps: fetching ONNX Runtime (npm com.github.asus4.onnxruntime@$version)"
+  tmp="$(mktemp -d)"
+  (cd "$tmp" && npm pack --silent "com.github.asus4.onnxruntime@$version" >/dev/null)
+  tgz="$tmp/com.github.asus4.onnxruntime-$version.tgz"
+  echo "$sha1  $tgz" | sha1sum -c --quiet -
+  headers='package/Plugins/iOS~/onnxruntime.xcframework/ios-arm64_x86_64-simulator/onnxruntime.framework/Headers'
+  tar xzf "$tgz" -C "$tmp" package/Plugins/Linux/x64/libonnxruntime.so package/LICENSE package/ThirdPartyNotices.txt \
+    "$headers"
+  rm -rf "$dest"
+  mkdir -p "$dest/include" "$dest/lib"
+  cp "$tmp/$headers"/*.h "$dest/include/"
+  cp "$tmp/package/Plugins/Linux/x64/libonnxruntime.so" "$dest/lib/"
+  cp "$tmp/package/LICENSE" "$tmp/package/ThirdPartyNotices.txt" "$dest/"
+  echo "$version" >"$dest/VERSION"
+  rm -rf "$tmp"
+}
+
 if [ ${#missing[@]} -eq 0 ]; then
   echo "install-deps: all ${#packages[@]} packages present"
   install_npm
+  install_onnxruntime
   exit 0
 fi
 
@@ -70,4 +107,5 @@ export DEBIAN_FRONTEND=noninteractive
 "${sudo_cmd[@]}" apt-get update -qq
 "${sudo_cmd[@]}" apt-get install -y -qq --no-install-recommends "${missing[@]}"
 install_npm
+install_onnxruntime
 echo "install-deps: done"

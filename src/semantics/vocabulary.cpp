@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cctype>
+#include <cmath>
 #include <nlohmann/json.hpp>
 
 namespace artemis::embedded {
@@ -76,6 +77,10 @@ Result<Vocabulary> Vocabulary::parse(std::string_view json, const std::string& o
         cls.labels.push_back(static_cast<std::uint16_t>(l.get<int>()));
       }
     }
+    if (c.contains("open")) {
+      if (!c["open"].is_boolean()) return parseError(where + ": \"open\" must be true or false");
+      cls.open = c["open"].get<bool>();
+    }
     v.classes_.push_back(std::move(cls));
   }
   if (v.classes_.empty()) return parseError(origin + ": the vocabulary has no class");
@@ -129,10 +134,38 @@ std::string_view Vocabulary::name(ClassId id) const {
   return c != nullptr ? std::string_view(c->name) : std::string_view("unknown");
 }
 
+Result<ClassId> Vocabulary::addOpenClass(std::string_view name) {
+  SemanticClass cls;
+  cls.name = canonicalName(name);
+  cls.open = true;
+  if (cls.name.empty()) return invalidArgument("an open class needs a name");
+  if (findByName(cls.name) != nullptr) return invalidArgument(fmt::format("the vocabulary has a class '{}'", cls.name));
+  const int top = classes_.empty() ? 0 : static_cast<int>(classes_.back().id);
+  if (top >= kMaxClasses) {
+    return invalidArgument(
+        fmt::format("no class id left for '{}' (the vocabulary uses up to {})", cls.name, kMaxClasses));
+  }
+  cls.id = static_cast<ClassId>(top + 1);
+  if (index_of_.size() < static_cast<std::size_t>(kMaxClasses) + 2) index_of_.resize(kMaxClasses + 2, -1);
+  // A saturated colour, its hue a golden-angle step per open class so that neighbours differ.
+  const auto opened =
+      static_cast<double>(std::count_if(classes_.begin(), classes_.end(), [](const auto& c) { return c.open; }));
+  const double hue = std::fmod(0.13 + 0.618033988749895 * opened, 1.0) * 6.0;
+  const double x = 1.0 - std::abs(std::fmod(hue, 2.0) - 1.0);
+  const std::array<std::array<double, 3>, 6> sectors{
+      {{1, x, 0}, {x, 1, 0}, {0, 1, x}, {0, x, 1}, {x, 0, 1}, {1, 0, x}}};
+  const auto& rgb = sectors[static_cast<std::size_t>(hue) % 6];
+  for (std::size_t k = 0; k < 3; ++k) cls.rgb[k] = static_cast<std::uint8_t>(std::lround(40.0 + 215.0 * rgb[k]));
+  index_of_[cls.id] = static_cast<std::int16_t>(classes_.size());
+  classes_.push_back(std::move(cls));
+  return classes_.back().id;
+}
+
 std::string Vocabulary::toJson() const {
   nlohmann::ordered_json classes = nlohmann::ordered_json::array();
   for (const SemanticClass& c : classes_) {
     classes.push_back({{"id", c.id}, {"name", c.name}, {"rgb", c.rgb}, {"labels", c.labels}});
+    if (c.open) classes.back()["open"] = true;
   }
   nlohmann::ordered_json j;
   j["classes"] = classes;

@@ -61,5 +61,32 @@ TEST(Vocabulary, BadFilesAreClearErrors) {
   EXPECT_FALSE(Vocabulary::load("/nonexistent/vocab.json"));
 }
 
+// Open classes: the next ids, colours of their own, carried through the JSON; names that exist or
+// are empty are errors.
+TEST(Vocabulary, OpenClassesTakeTheNextIdsAndSurviveTheJson) {
+  Vocabulary v = Vocabulary::semanticKitti();
+  const auto before = v.size();
+  auto backpack = v.addOpenClass("Backpack");
+  auto bench = v.addOpenClass("park bench");
+  ASSERT_TRUE(backpack) << backpack.status().toString();
+  ASSERT_TRUE(bench);
+  EXPECT_EQ(*backpack, static_cast<ClassId>(before + 1));
+  EXPECT_EQ(*bench, static_cast<ClassId>(before + 2));
+  EXPECT_EQ(v.name(*backpack), "backpack");
+  EXPECT_EQ(v.findByName("park bench")->id, *bench);
+  EXPECT_TRUE(v.find(*bench)->open);
+  EXPECT_FALSE(v.findByName("car")->open);
+  EXPECT_NE(v.colour(*backpack), v.colour(*bench));
+  EXPECT_NE(v.colour(*backpack), (std::array<std::uint8_t, 3>{128, 128, 128}));
+  auto again = Vocabulary::parse(v.toJson(), "round trip");
+  ASSERT_TRUE(again) << again.status().toString();
+  EXPECT_EQ(again->size(), before + 2);
+  EXPECT_TRUE(again->find(*bench)->open);
+  EXPECT_EQ(again->colour(*bench), v.colour(*bench));
+  EXPECT_FALSE(v.addOpenClass("car"));
+  EXPECT_FALSE(v.addOpenClass("BACKPACK"));
+  EXPECT_FALSE(v.addOpenClass(""));
+}
+
 }  // namespace
 }  // namespace artemis::semantics

@@ -29,6 +29,9 @@ struct SemanticClass {
   std::string name;
   std::array<std::uint8_t, 3> rgb{};
   std::vector<std::uint16_t> labels;  // dataset label ids (lower 16 bits of a SemanticKITTI label)
+  // An open class: a name a query gave that the vocabulary lacked, which an open-vocabulary
+  // segmenter can still segment (addOpenClass); no dataset label counts as it.
+  bool open = false;
 };
 
 class Vocabulary {
@@ -53,7 +56,10 @@ class Vocabulary {
   [[nodiscard]] std::array<std::uint8_t, 3> colour(ClassId id) const;
   // Name of `id`; "none" for kNoClass, "unknown" for an id not in the vocabulary.
   [[nodiscard]] std::string_view name(ClassId id) const;
-  // The vocabulary as JSON (the form parse() reads).
+  // Adds an open class called `name` (canonical form) with the next free id and a display colour of
+  // its own, and returns its id. Errors: an empty name, one the vocabulary has, no id left.
+  Result<ClassId> addOpenClass(std::string_view name);
+  // The vocabulary as JSON (the form parse() reads); open classes say "open": true.
   [[nodiscard]] std::string toJson() const;
 
   // Canonical form of a class name for comparisons: lower case, '_' and ' ' as '-'.
