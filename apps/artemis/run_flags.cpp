@@ -156,12 +156,14 @@ void addSegmenterFlags(CLI::App& cmd, RunFlags& f) {
                  "Needs --segmenter")
       ->take_all();
   cmd.add_option("--segmenter", f.segmenter,
-                 "dnn: a dense segmentation network on the CPU (--model, --model-config); sim: the simulator's "
-                 "ground truth with noise (artemis sim output); maskfile: masks an external segmenter wrote (--masks)")
-      ->check(CLI::IsMember({"dnn", "sim", "maskfile"}));
+                 "dnn: a dense segmentation network on the CPU (--model, --model-config); onnx: instance models "
+                 "through ONNX Runtime, with CLIP an open vocabulary (--model-config, see README); sim: the "
+                 "simulator's ground truth with noise (artemis sim output); maskfile: masks an external segmenter "
+                 "wrote (--masks)")
+      ->check(CLI::IsMember({"dnn", "onnx", "sim", "maskfile"}));
   cmd.add_option("--model", f.model, "dnn: the network's weights (Torch7, ONNX, Caffe, TensorFlow)");
   cmd.add_option("--model-config", f.model_config,
-                 "dnn: how to feed and read the network (JSON, see README; data/models/enet-cityscapes.json)");
+                 "dnn, onnx: how to run the models (JSON, see README; data/models/enet-cityscapes.json)");
   cmd.add_option("--segment-every", f.params.semantics.segment_every, "Segment every Nth frame with an image (1: all)")
       ->capture_default_str()
       ->check(CLI::Range(1, 1000));

@@ -8,6 +8,7 @@
 
 #include "artemis/semantics/dnn_segmenter.hpp"
 #include "artemis/semantics/mask_file_segmenter.hpp"
+#include "artemis/semantics/onnx_segmenter.hpp"
 #include "artemis/semantics/simulated_segmenter.hpp"
 
 namespace artemis::cli {
@@ -87,11 +88,33 @@ Result<std::unique_ptr<semantics::Segmenter>> makeSegmenter(const SegmenterChoic
     settings = {{"model", fs::absolute(choice.model).string()},
                 {"model_config", fs::absolute(choice.model_config).string()},
                 {"threads", choice.threads}};
+  } else if (choice.kind == "onnx") {
+    if (choice.model_config.empty()) {
+      return invalidArgument(
+          "--segmenter onnx needs --model-config CONFIG.json (the models and how to run them; see "
+          "the README's \"Open vocabulary\")");
+    }
+    auto config = semantics::OnnxModelConfig::load(choice.model_config, vocabulary);
+    if (!config) return config.status();
+    if (config->runtime.threads == 0 && choice.threads > 0) config->runtime.threads = choice.threads;
+    auto seg = semantics::OnnxSegmenter::open(std::move(*config), vocabulary);
+    if (!seg) return seg.status();
+    settings = {{"model_config", fs::absolute(choice.model_config).string()},
+                {"provider", (*seg)->provider()},
+                {"threads", choice.threads}};
+    segmenter = std::move(*seg);
   } else {
-    return invalidArgument(fmt::format("unknown segmenter '{}' (sim, maskfile or dnn)", choice.kind));
+    return invalidArgument(fmt::format("unknown segmenter '{}' (sim, maskfile, dnn or onnx)", choice.kind));
   }
   if (settings_json != nullptr) *settings_json = settings.dump();
   return segmenter;
+}
+
+Result<bool> openVocabulary(const SegmenterChoice& choice, const semantics::Vocabulary& vocabulary) {
+  if (choice.kind != "onnx" || choice.model_config.empty()) return false;
+  auto config = semantics::OnnxModelConfig::load(choice.model_config, vocabulary);
+  if (!config) return config.status();
+  return config->openVocabulary();
 }
 
 Result<SegmenterChoice> segmenterChoiceFromJson(const std::string& semantics_json, const std::string& origin) {
@@ -106,6 +129,9 @@ Result<SegmenterChoice> segmenterChoiceFromJson(const std::string& semantics_jso
       c.seed = s.at("seed").get<std::uint64_t>();
     } else if (c.kind == "dnn") {
       c.model = s.at("model").get<std::string>();
+      c.model_config = s.at("model_config").get<std::string>();
+      c.threads = s.value("threads", 0);
+    } else if (c.kind == "onnx") {
       c.model_config = s.at("model_config").get<std::string>();
       c.threads = s.value("threads", 0);
     } else {

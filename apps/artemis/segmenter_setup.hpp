@@ -14,13 +14,13 @@
 namespace artemis::cli {
 
 struct SegmenterChoice {
-  std::string kind;                // "sim", "maskfile" or "dnn"
+  std::string kind;                // "sim", "maskfile", "dnn" or "onnx"
   std::string noise = "standard";  // sim
   std::uint64_t seed = 1;          // sim
   std::string sim_gt;              // sim: empty = found beside the recording
   std::string masks;               // maskfile
   std::string model;               // dnn: the network's weights
-  std::string model_config;        // dnn: how to feed and read it (DenseModelConfig)
+  std::string model_config;        // dnn: how to feed and read it (DenseModelConfig); onnx: OnnxModelConfig
   int threads = 0;                 // dnn: OpenCV's threads (0: every core)
 };
 
@@ -32,6 +32,10 @@ Result<std::unique_ptr<semantics::Segmenter>> makeSegmenter(const SegmenterChoic
                                                             const semantics::QueryGrounder* grounder,
                                                             const std::filesystem::path& dataset_root,
                                                             std::string* settings_json);
+
+// Whether the choice segments any class a query names, even one the vocabulary lacks (an onnx
+// config with a CLIP stage); an unreadable config is an error.
+Result<bool> openVocabulary(const SegmenterChoice& choice, const semantics::Vocabulary& vocabulary);
 
 // The choice recorded in a run's semantics.json ("segmenter", "segmenter_settings").
 Result<SegmenterChoice> segmenterChoiceFromJson(const std::string& semantics_json, const std::string& origin);

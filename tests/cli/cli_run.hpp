@@ -24,9 +24,10 @@ struct RunResult {
   std::string err;
 };
 
-inline RunResult runCli(const std::string& args) {
+// `environment`: settings put before the program ("NAME=value "), or empty.
+inline RunResult runCli(const std::string& environment, const std::string& args) {
   TempDir tmp;
-  const std::string cmd = std::string(ARTEMIS_CLI_PATH) + " " + args + " 2>" + (tmp / "stderr").string();
+  const std::string cmd = environment + std::string(ARTEMIS_CLI_PATH) + " " + args + " 2>" + (tmp / "stderr").string();
   RunResult r;
   FILE* pipe = popen(cmd.c_str(), "r");
   if (pipe == nullptr) return r;
@@ -40,6 +41,10 @@ inline RunResult runCli(const std::string& args) {
   ss << err.rdbuf();
   r.err = ss.str();
   return r;
+}
+
+inline RunResult runCli(const std::string& args) {
+  return runCli("", args);
 }
 
 // Starts artemis with `args` (its output discarded); the caller waits for it or kills it.
