@@ -85,21 +85,6 @@ Result<std::unique_ptr<Session>> Session::fromBytes(std::span<const std::byte>, 
                                                     const RuntimeOptions&) {
   return noHeaders();
 }
-const std::vector<TensorInfo>& Session::inputs() const {
-  return impl_->inputs;
-}
-const std::vector<TensorInfo>& Session::outputs() const {
-  return impl_->outputs;
-}
-const std::string& Session::name() const {
-  return impl_->name;
-}
-const std::string& Session::provider() const {
-  return impl_->provider;
-}
-const TensorInfo* Session::input(const std::string&) const {
-  return nullptr;
-}
 Result<std::vector<Tensor>> Session::run(std::span<const Tensor>) {
   return noHeaders();
 }
@@ -349,26 +334,6 @@ Result<std::unique_ptr<Session>> Session::fromBytes(std::span<const std::byte> m
   return std::unique_ptr<Session>(new Session(std::move(impl)));
 }
 
-const std::vector<TensorInfo>& Session::inputs() const {
-  return impl_->inputs;
-}
-const std::vector<TensorInfo>& Session::outputs() const {
-  return impl_->outputs;
-}
-const std::string& Session::name() const {
-  return impl_->name;
-}
-const std::string& Session::provider() const {
-  return impl_->provider;
-}
-
-const TensorInfo* Session::input(const std::string& name) const {
-  for (const TensorInfo& t : impl_->inputs) {
-    if (t.name == name) return &t;
-  }
-  return nullptr;
-}
-
 namespace {
 
 // Checks a feed against the model's input; the error names both.
@@ -492,5 +457,26 @@ Result<RuntimeInfo> runtimeInfo(const RuntimeOptions& options) {
 }
 
 #endif  // ARTEMIS_HAVE_ONNXRUNTIME_HEADERS
+
+// Both builds' Impl hold the model's name, provider and tensors.
+const std::vector<TensorInfo>& Session::inputs() const {
+  return impl_->inputs;
+}
+const std::vector<TensorInfo>& Session::outputs() const {
+  return impl_->outputs;
+}
+const std::string& Session::name() const {
+  return impl_->name;
+}
+const std::string& Session::provider() const {
+  return impl_->provider;
+}
+
+const TensorInfo* Session::input(const std::string& name) const {
+  for (const TensorInfo& t : impl_->inputs) {
+    if (t.name == name) return &t;
+  }
+  return nullptr;
+}
 
 }  // namespace artemis::semantics::onnx
