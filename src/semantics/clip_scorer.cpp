@@ -54,7 +54,13 @@ Result<std::map<std::string, std::vector<float>>> readEmbeddings(const std::file
       }
       d = v.size();
       std::vector<float> e;
-      for (const auto& x : v) e.push_back(x.template get<float>());
+      for (const auto& x : v) {
+        const double value = x.template get<double>();
+        if (!std::isfinite(value) || std::abs(value) > 1e30) {
+          return parseError(fmt::format("{}: '{}' holds {}, not a usable number", path.string(), name, x.dump()));
+        }
+        e.push_back(static_cast<float>(value));
+      }
       normalise(e);
       out.emplace(name, std::move(e));
     }
@@ -107,9 +113,11 @@ Result<std::unique_ptr<ClipScorer>> ClipScorer::open(const ClipConfig& config, c
 }
 
 std::array<std::uint8_t, 3> ClipScorer::fillColour() const {
+  // Image channel k feeds plane k, or plane 2 - k in BGR order; the plane's mean maps to zero.
+  const NetworkInput& in = config_.image_input;
   std::array<std::uint8_t, 3> c{};
   for (std::size_t k = 0; k < 3; ++k) {
-    const double v = config_.image_input.mean[k] / config_.image_input.scale;
+    const double v = in.mean[in.bgr ? 2 - k : k] / in.scale;
     c[k] = static_cast<std::uint8_t>(std::clamp(std::lround(v), 0L, 255L));
   }
   return c;
@@ -160,10 +168,12 @@ Result<std::vector<std::vector<float>>> ClipScorer::imageEmbeddings(const std::v
   const onnx::TensorInfo& info = image_->inputs().front();
   NetworkInput input = config_.image_input;
   input.name = info.name;
-  const bool batched = info.shape[0] < 0;
-  const std::size_t step = batched ? crops.size() : 1;
+  // Batches of up to kBatch crops where the encoder's first dimension is open, else one by one.
+  constexpr std::size_t kBatch = 32;
+  const std::size_t most = info.shape[0] < 0 ? kBatch : 1;
   onnx::Tensor one;
-  for (std::size_t first = 0; first < crops.size(); first += step) {
+  for (std::size_t first = 0; first < crops.size(); first += most) {
+    const std::size_t step = std::min(most, crops.size() - first);
     onnx::Tensor batch;
     batch.type = onnx::ElementType::kFloat;
     batch.shape = {static_cast<std::int64_t>(step), 3, input.height, input.width};

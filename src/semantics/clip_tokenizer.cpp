@@ -175,7 +175,7 @@ Result<ClipTokenizer> ClipTokenizer::parse(std::string_view text, const std::str
   while (std::getline(in, line) && t.ranks_.size() < max_merges) {
     ++number;
     if (!line.empty() && line.back() == '\r') line.pop_back();
-    if (number == 1 && line.rfind("#version", 0) == 0) continue;
+    if (number == 1) continue;  // the version line: CLIP drops the first line, whatever it holds
     if (line.empty()) continue;
     const std::size_t space = line.find(' ');
     if (space == std::string::npos || space == 0 || space + 1 == line.size() ||

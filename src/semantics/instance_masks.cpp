@@ -19,6 +19,16 @@ std::string shapesOf(std::span<const onnx::Tensor> outputs) {
   return out.empty() ? "nothing" : out;
 }
 
+// A detection a model could mean: finite numbers, a box of positive size within a million pixels of
+// the input (a model's output is untrusted: NaN or 1e30 would make the mask's pixel arithmetic
+// undefined).
+bool usable(const Detection& d) {
+  constexpr float kFar = 1e6f;
+  const auto ok = [](float v) { return std::isfinite(v) && std::abs(v) < kFar; };
+  return ok(d.x0) && ok(d.y0) && ok(d.x1) && ok(d.y1) && d.x1 > d.x0 && d.y1 > d.y0 && std::isfinite(d.score) &&
+         std::all_of(d.coefficients.begin(), d.coefficients.end(), [](float c) { return std::isfinite(c); });
+}
+
 float iouOf(const Detection& a, const Detection& b) {
   const float w = std::max(0.0f, std::min(a.x1, b.x1) - std::max(a.x0, b.x0));
   const float h = std::max(0.0f, std::min(a.y1, b.y1) - std::max(a.y0, b.y0));
@@ -100,11 +110,11 @@ std::vector<Detection> readDetections(const InstanceOutputs& outputs, const Dete
     const auto stride = static_cast<std::size_t>(t.shape[2]);
     for (std::size_t i = 0; i < rows; ++i) {
       const float* r = &t.values[i * stride];
-      if (!(r[4] >= params.score_threshold)) continue;
+      // The class column is a float: an index only when it is one of the labels'.
+      if (!(r[4] >= params.score_threshold) || !(r[5] > -0.5f && r[5] < static_cast<float>(nc) - 0.5f)) continue;
       Detection d{r[0], r[1], r[2], r[3], r[4], static_cast<int>(std::lround(r[5])), {}};
-      if (d.label < 0 || d.label >= nc) continue;
       d.coefficients.assign(r + 6, r + 6 + nm);
-      out.push_back(std::move(d));
+      if (usable(d)) out.push_back(std::move(d));
     }
     std::stable_sort(out.begin(), out.end(), [](const auto& a, const auto& b) { return a.score > b.score; });
     if (out.size() > params.max_detections) out.resize(params.max_detections);
@@ -133,7 +143,7 @@ std::vector<Detection> readDetections(const InstanceOutputs& outputs, const Dete
     d.coefficients.resize(static_cast<std::size_t>(nm));
     for (int k = 0; k < nm; ++k)
       d.coefficients[static_cast<std::size_t>(k)] = at(4 + static_cast<std::size_t>(nc + k), i);
-    out.push_back(std::move(d));
+    if (usable(d)) out.push_back(std::move(d));
   }
   return suppress(std::move(out), params.iou_threshold, params.max_detections);
 }
@@ -158,11 +168,12 @@ InstanceMask maskOf(const Detection& detection, const onnx::Tensor& prototypes, 
   const int ph = static_cast<int>(prototypes.shape[2]);
   const int pw = static_cast<int>(prototypes.shape[3]);
   if (nm != static_cast<int>(detection.coefficients.size()) || ph <= 0 || pw <= 0) return mask;
-  // The box in image pixels, clipped.
-  mask.x0 = std::max(0, static_cast<int>(std::floor(placement.imageX(detection.x0))));
-  mask.y0 = std::max(0, static_cast<int>(std::floor(placement.imageY(detection.y0))));
-  mask.x1 = std::min(placement.image_width, static_cast<int>(std::ceil(placement.imageX(detection.x1))));
-  mask.y1 = std::min(placement.image_height, static_cast<int>(std::ceil(placement.imageY(detection.y1))));
+  // The box in image pixels, clipped (in double: boxes are finite and within 1e6 px, usable()).
+  const auto clamped = [](double v, int lo, int hi) { return static_cast<int>(std::clamp(v, double(lo), double(hi))); };
+  mask.x0 = clamped(std::floor(placement.imageX(detection.x0)), 0, placement.image_width);
+  mask.y0 = clamped(std::floor(placement.imageY(detection.y0)), 0, placement.image_height);
+  mask.x1 = clamped(std::ceil(placement.imageX(detection.x1)), 0, placement.image_width);
+  mask.y1 = clamped(std::ceil(placement.imageY(detection.y1)), 0, placement.image_height);
   if (mask.x1 <= mask.x0 || mask.y1 <= mask.y0) {
     mask.x1 = mask.x0;
     mask.y1 = mask.y0;
@@ -171,10 +182,10 @@ InstanceMask maskOf(const Detection& detection, const onnx::Tensor& prototypes, 
   // The mask's logits on the prototype grid, over the box's part of it (one pixel of margin).
   const double gx = static_cast<double>(pw) / input_width;
   const double gy = static_cast<double>(ph) / input_height;
-  const int gx0 = std::max(0, static_cast<int>(std::floor(detection.x0 * gx)) - 1);
-  const int gy0 = std::max(0, static_cast<int>(std::floor(detection.y0 * gy)) - 1);
-  const int gx1 = std::min(pw, static_cast<int>(std::ceil(detection.x1 * gx)) + 1);
-  const int gy1 = std::min(ph, static_cast<int>(std::ceil(detection.y1 * gy)) + 1);
+  const int gx0 = clamped(std::floor(detection.x0 * gx) - 1, 0, pw);
+  const int gy0 = clamped(std::floor(detection.y0 * gy) - 1, 0, ph);
+  const int gx1 = clamped(std::ceil(detection.x1 * gx) + 1, 0, pw);
+  const int gy1 = clamped(std::ceil(detection.y1 * gy) + 1, 0, ph);
   const int lw = std::max(0, gx1 - gx0);
   const int lh = std::max(0, gy1 - gy0);
   if (lw == 0 || lh == 0) {  // the box lies off the prototypes

@@ -19,8 +19,8 @@ Placement placeImage(int image_width, int image_height, const NetworkInput& inpu
   }
   // YOLO's letterbox: one scale, the scaled image rounded to whole pixels and centred.
   const double s = std::min(sx, sy);
-  const double w = std::round(image_width * s);
-  const double h = std::round(image_height * s);
+  const double w = std::max(1.0, std::round(image_width * s));  // a 1 x 2000 image still has a row
+  const double h = std::max(1.0, std::round(image_height * s));
   p.scale_x = w / image_width;
   p.scale_y = h / image_height;
   p.pad_x = std::floor((input.width - w) / 2.0);

@@ -128,7 +128,7 @@ Status Reader::instances(const Json& j, const Vocabulary& vocabulary, const std:
   ARTEMIS_TRY(number(j, "iou_threshold", "instances", 0.0, 1.0, iou));
   ARTEMIS_TRY(number(j, "mask_threshold", "instances", 0.001, 0.999, mask));
   std::int64_t max = static_cast<std::int64_t>(out.detection.max_detections);
-  ARTEMIS_TRY(whole(j, "max_detections", "instances", 1, 65535, max));
+  ARTEMIS_TRY(whole(j, "max_detections", "instances", 1, 1000, max));
   out.detection = {static_cast<float>(score), static_cast<float>(iou), static_cast<std::size_t>(max)};
   out.mask_threshold = static_cast<float>(mask);
   std::string layout = "auto";

@@ -157,6 +157,7 @@ Result<Loaded> openLibrary(const std::string& path) {
   if (Status st = statusOf(loaded.api, loaded.api->CreateEnv(ORT_LOGGING_LEVEL_ERROR, "artemis", &loaded.env),
                            path + ": creating the runtime's environment");
       !st.isOk()) {
+    dlclose(handle);
     return st;
   }
   return loaded;
@@ -258,7 +259,11 @@ Result<std::vector<TensorInfo>> Session::Impl::describe(bool outputs_side) const
       return st;
     }
     const OrtTensorTypeAndShapeInfo* tensor = nullptr;
-    if (api->CastTypeInfoToTensorInfo(type_info, &tensor) == nullptr && tensor != nullptr) {
+    if (OrtStatus* cast = api->CastTypeInfoToTensorInfo(type_info, &tensor); cast != nullptr) {
+      drop(api, cast);  // not a tensor (a map, a sequence): its type stays kOther
+      tensor = nullptr;
+    }
+    if (tensor != nullptr) {
       ONNXTensorElementDataType element{};
       std::size_t rank = 0;
       drop(api, api->GetTensorElementType(tensor, &element));
@@ -277,13 +282,19 @@ Session::Session(std::unique_ptr<Impl> impl) : impl_(std::move(impl)) {}
 Session::~Session() = default;
 
 Result<std::unique_ptr<Session>> Session::open(const std::filesystem::path& model, const RuntimeOptions& options) {
-  auto bytes = io::readFileBytes(model, io::limits::kModel);
-  if (!bytes) return bytes.status();
-  return fromBytes(std::as_bytes(std::span(bytes->data(), bytes->size())), model.string(), options);
+  // The runtime reads the file itself (a model may keep its weights in files beside it); it is
+  // checked first, so that a missing file, a folder or a FIFO is an error naming it.
+  if (auto size = io::checkInputFile(model, io::limits::kModel); !size) return size.status();
+  return create(model.string(), {}, model.string(), options);
 }
 
 Result<std::unique_ptr<Session>> Session::fromBytes(std::span<const std::byte> model, const std::string& name,
                                                     const RuntimeOptions& options) {
+  return create({}, model, name, options);
+}
+
+Result<std::unique_ptr<Session>> Session::create(const std::string& path, std::span<const std::byte> model,
+                                                 const std::string& name, const RuntimeOptions& options) {
   if (options.provider != "cpu" && options.provider != "cuda" && options.provider != "auto") {
     return invalidArgument(fmt::format("{}: provider '{}' is none of cpu, cuda, auto", name, options.provider));
   }
@@ -315,9 +326,10 @@ Result<std::unique_ptr<Session>> Session::fromBytes(std::span<const std::byte> m
     }
     if (cuda && added.isOk()) impl->provider = "cuda";
   }
-  const Status created =
-      impl->check(api->CreateSessionFromArray(impl->rt->env, model.data(), model.size(), settings, &impl->session),
-                  "not a model ONNX Runtime can load");
+  const Status created = impl->check(
+      path.empty() ? api->CreateSessionFromArray(impl->rt->env, model.data(), model.size(), settings, &impl->session)
+                   : api->CreateSession(impl->rt->env, path.c_str(), settings, &impl->session),
+      "not a model ONNX Runtime can load");
   release_settings();
   if (!created.isOk()) return created;
   if (Status st =

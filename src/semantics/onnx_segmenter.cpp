@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include <algorithm>
+#include <cmath>
 
 namespace artemis::semantics {
 
@@ -68,6 +69,10 @@ Result<std::unique_ptr<OnnxSegmenter>> OnnxSegmenter::open(OnnxModelConfig confi
 
 Result<std::vector<OnnxSegmenter::Instance>> OnnxSegmenter::instances(const ImageU8& rgb) {
   const InstanceModelConfig& c = config_.instances;
+  if (rgb.channels() != 3 || rgb.empty()) {
+    return invalidArgument(
+        fmt::format("{}: segments 3-channel colour images, given {} channels", instances_->name(), rgb.channels()));
+  }
   const Placement placement = fillInput(rgb, c.input, input_);
   auto outputs = instances_->run(std::span(&input_, 1));
   if (!outputs) return outputs.status();
@@ -83,17 +88,21 @@ Result<std::vector<OnnxSegmenter::Instance>> OnnxSegmenter::instances(const Imag
 }
 
 ImageU8 OnnxSegmenter::cropOf(const ImageU8& rgb, const InstanceMask& mask) const {
+  // Sampled straight at the CLIP input's size (nearest pixel), so that a frame's crops take the
+  // memory of that many small images whatever the masks' sizes.
   const int side = std::max(mask.x1 - mask.x0, mask.y1 - mask.y0);
-  const int left = (mask.x0 + mask.x1 - side) / 2;
-  const int top = (mask.y0 + mask.y1 - side) / 2;
+  const double left = (mask.x0 + mask.x1 - side) / 2.0;
+  const double top = (mask.y0 + mask.y1 - side) / 2.0;
+  const int cw = clip_->config().image_input.width;
+  const int ch = clip_->config().image_input.height;
   const std::array<std::uint8_t, 3> fill = clip_->fillColour();
-  ImageU8 crop(side, side, 3, 0);
-  for (int v = 0; v < side; ++v) {
-    for (int u = 0; u < side; ++u) {
-      const bool in = mask.contains(left + u, top + v);
-      for (int k = 0; k < 3; ++k) {
-        crop.at(u, v, k) = in ? rgb.at(left + u, top + v, k) : fill[static_cast<std::size_t>(k)];
-      }
+  ImageU8 crop(cw, ch, 3, 0);
+  for (int v = 0; v < ch; ++v) {
+    const int y = static_cast<int>(std::floor(top + (v + 0.5) * side / ch));
+    for (int u = 0; u < cw; ++u) {
+      const int x = static_cast<int>(std::floor(left + (u + 0.5) * side / cw));
+      const bool in = mask.contains(x, y);
+      for (int k = 0; k < 3; ++k) crop.at(u, v, k) = in ? rgb.at(x, y, k) : fill[static_cast<std::size_t>(k)];
     }
   }
   return crop;

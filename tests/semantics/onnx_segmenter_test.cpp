@@ -161,6 +161,36 @@ TEST(OnnxSegmenter, YoloSegLayoutsGiveMasksInImagePixels) {
   }
 }
 
+// The dense layout transposed: with two labels it reads as end-to-end unless the config says which.
+TEST(OnnxSegmenter, ATransposedDenseLayoutAsTheConfigSays) {
+  test::TempDir tmp;
+  ARTEMIS_REQUIRE_ONNX_MODELS(tmp.path());
+  const Vocabulary v = vocabulary();
+  auto seg = openConfig(tmp.path(), yoloConfig("yolo_dense_t.onnx", R"(, "layout": "dense_transposed")"), v);
+  ASSERT_TRUE(seg) << seg.status().toString();
+  auto found = (*seg)->instances(ImageU8(256, 192, 3, 50));
+  ASSERT_TRUE(found) << found.status().toString();
+  ASSERT_EQ(found->size(), 2U);
+  EXPECT_FLOAT_EQ((*found)[0].detection.score, 0.9f);
+  EXPECT_NEAR(blobOf((*found)[0].mask).cx, 80.0, 1.5);
+  EXPECT_EQ((*found)[1].detection.label, 1);
+}
+
+// Rows no model should give are dropped, whatever they hold; the one good detection stays.
+TEST(OnnxSegmenter, OutputsNoModelShouldGiveAreDroppedNotTrusted) {
+  test::TempDir tmp;
+  ARTEMIS_REQUIRE_ONNX_MODELS(tmp.path());
+  const Vocabulary v = vocabulary();
+  auto seg = openConfig(tmp.path(), yoloConfig("yolo_hostile.onnx"), v);
+  ASSERT_TRUE(seg) << seg.status().toString();
+  auto found = (*seg)->instances(ImageU8(256, 192, 3, 50));
+  ASSERT_TRUE(found) << found.status().toString();
+  ASSERT_EQ(found->size(), 1U);
+  EXPECT_NEAR(blobOf((*found)[0].mask).cy, 48.0, 1.5);
+  // A grey image is not colour: a clear error, not a read past its channel.
+  EXPECT_FALSE((*seg)->instances(ImageU8(256, 192, 1, 50)));
+}
+
 TEST(OnnxSegmenter, ClipPicksTheRedBlobForRedThings) {
   test::TempDir tmp;
   ARTEMIS_REQUIRE_ONNX_MODELS(tmp.path());
@@ -219,7 +249,7 @@ TEST(OnnxSegmenter, ModelsAndConfigsThatDoNotFitAreClearErrors) {
     auto seg = openConfig(tmp.path(), json, v);
     return seg ? std::string() : seg.status().message();
   };
-  // A model whose outputs match no instance layout.
+  // A model that takes no image.
   EXPECT_NE(error(yoloConfig("add_one.onnx")).find("not a float image"), std::string::npos);
   // The right kind of model, but the config's labels disagree with its outputs.
   const std::string three = R"({"instances": {"model": "yolo_dense.onnx", "input": {"size": [128, 128]},

@@ -8,6 +8,9 @@ Writes into OUT_DIR:
   yolo_dense.onnx     a YOLO-seg graph (outputs [1, 4+nc+nm, N] and prototypes [1, nm, 32, 32],
                       prototypes first) with hand-set detections on a 128 x 128 input
   yolo_e2e.onnx       the same detections in the end-to-end layout [1, K, 6+nm]
+  yolo_dense_t.onnx   the dense layout transposed, [1, N, 4+nc+nm]
+  yolo_hostile.onnx   end-to-end rows no model should give (NaN, 1e30, a class index of no label, an
+                      empty box) around one good detection
   everything.onnx     "segment everything" (one class) for three colour blobs on a 128 x 128 input
   clip_image.onnx     a toy CLIP image encoder: the mean of each normalised channel, [batch, 3]
   clip_text.onnx      a toy CLIP text encoder: token embeddings summed up to the end token
@@ -104,6 +107,25 @@ def write_yolo(out):
     save(helper.make_graph(nodes, "yolo_dense", [image], outs), os.path.join(out, "yolo_dense.onnx"))
     nodes, outs = constant_outputs([image], [("output0", e2e), ("protos", prototypes())])
     save(helper.make_graph(nodes, "yolo_e2e", [image], outs), os.path.join(out, "yolo_e2e.onnx"))
+    nodes, outs = constant_outputs([image], [("output0", np.transpose(dense, (0, 2, 1))), ("protos", prototypes())])
+    save(helper.make_graph(nodes, "yolo_dense_t", [image], outs), os.path.join(out, "yolo_dense_t.onnx"))
+    good = e2e[0, 0]
+    bad = np.zeros([6, 10])
+    bad[0] = good
+    bad[0, 0] = np.nan
+    bad[1] = good
+    bad[1, 2] = 1e30
+    bad[2] = good
+    bad[2, 5] = 7  # no label 7
+    bad[3] = good
+    bad[3, 5] = np.nan
+    bad[4] = good
+    bad[4, 0], bad[4, 2] = bad[4, 2], bad[4, 0]  # x1 < x0
+    bad[5] = good
+    bad[5, 6] = np.inf
+    hostile = np.concatenate([bad, good[None]], axis=0)[None]
+    nodes, outs = constant_outputs([image], [("output0", hostile), ("protos", prototypes())])
+    save(helper.make_graph(nodes, "yolo_hostile", [image], outs), os.path.join(out, "yolo_hostile.onnx"))
 
 
 # Three blobs on a 128 x 128 image (the test paints them): red at (32, 32), green at (96, 32), blue
@@ -185,7 +207,8 @@ def write_clip_text(out):
 
 # Colour-coded class images for the end-to-end test: each listed class a colour; the model's
 # prototype k is the pixels within 40 (of 255, summed over channels) of colour k; detection k covers
-# the whole input with score 0.9 and selects prototype k. Input 1242 x 375, as KITTI's camera.
+# the whole input with score 1 (as the simulated segmenter's exact masks) and selects prototype k.
+# Input 1242 x 375, as KITTI's camera.
 CLASS_COLOURS = [
     ("car", [255, 0, 0]), ("road", [128, 64, 128]), ("sidewalk", [244, 35, 232]), ("building", [70, 70, 70]),
     ("vegetation", [107, 142, 35]), ("terrain", [152, 251, 152]), ("pole", [153, 153, 153]),
@@ -204,7 +227,7 @@ def write_class_colours(out):
     dense = np.zeros([1, 4 + k + 32, k], np.float32)
     for i in range(k):
         dense[0, 0:4, i] = [w / 2, h / 2, w, h]
-        dense[0, 4 + i, i] = 0.9
+        dense[0, 4 + i, i] = 1.0
         dense[0, 4 + k + i, i] = 1.0
     nodes = [
         helper.make_node("Constant", [], ["colours"], value=numpy_helper.from_array(colours)),

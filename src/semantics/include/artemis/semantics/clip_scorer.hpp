@@ -5,8 +5,8 @@
 //
 // A prompt's text embedding comes from the precomputed file (by the class name, then by the whole
 // prompt text) or else from the text encoder on the tokenized prompt template; either way it is
-// worked out once and kept. Crops go through the image encoder in one batch when its first input
-// dimension is open, one by one otherwise. The encoders' embedding is their first output of shape
+// worked out once and kept. Crops go through the image encoder in batches of 32 when its first
+// input dimension is open, one by one otherwise. The encoders' embedding is their first output of shape
 // [batch, D].
 
 #include <filesystem>

@@ -2,9 +2,9 @@
 // CLIP's text tokenizer (Radford et al. 2021; OpenAI's simple_tokenizer.py): byte-level BPE over
 // lower-cased text, for CLIP text encoders exported to ONNX. The merges file is the user's
 // (bpe_simple_vocab_16e6.txt.gz for OpenAI's models, plain or gzipped), read as CLIP reads it:
-// the first line is a version header, then one merge "a b" a line, of which the first max_merges
-// count (CLIP's 49152 - 256 - 2). Ids: the 256 byte symbols, the same with "</w>" (a word's
-// end), one per merge, then <|startoftext|> and <|endoftext|>, the largest id.
+// the first line is a version header (skipped, whatever it holds), then one merge "a b" a line, of which the first
+// max_merges count (CLIP's 49152 - 256 - 2). Ids: the 256 byte symbols, the same with "</w>" (a word's end), one per
+// merge, then <|startoftext|> and <|endoftext|>, the largest id.
 //
 // Text is cleaned as CLIP cleans it, less ftfy's repairs of broken Unicode: HTML's &amp; &lt;
 // &gt; &quot; &#39; undone, runs of white space made one space, trimmed, lower-cased (ASCII

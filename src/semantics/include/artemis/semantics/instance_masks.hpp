@@ -9,8 +9,11 @@
 //   end-to-end   [1, K, 6 + nm]               per detection: x0, y0, x1, y1, score, class, nm
 //                                              coefficients (already suppressed)
 // nc is the config's label count, nm the prototypes' channel count. Where the shapes allow two
-// readings (nc = 2: [1, K, 10] may be end-to-end or transposed dense), they are tried in the order
-// above, dense first, end-to-end before transposed dense; a config's "layout" settles it.
+// readings they are tried in the order above, dense first, end-to-end before transposed dense: an
+// end-to-end [1, K, 6 + nm] whose K happens to be 4 + nc + nm reads as dense, and with nc = 2 a
+// transposed dense output reads as end-to-end; a config's "layout" settles it. Candidates whose
+// numbers are not finite, whose box is empty or lies beyond a million pixels, or whose class
+// index is none of the labels are dropped: a model's output is not trusted.
 //
 // A candidate's class is its best score's; candidates below the score threshold go, the rest of
 // the dense layout are suppressed per class (greedy, by IoU of their boxes). A detection's mask is

@@ -21,6 +21,7 @@ struct NetworkInput {
   bool letterbox = true;  // false: stretch to width x height
   int pad_value = 114;    // 0..255, the letterbox's border
   double scale = 1.0 / 255.0;
+  // Per plane of the tensor, in channel_order (with bgr, mean[0] is blue's).
   std::array<double, 3> mean{0.0, 0.0, 0.0};
   std::array<double, 3> std{1.0, 1.0, 1.0};
   bool bgr = false;

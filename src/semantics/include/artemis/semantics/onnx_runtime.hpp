@@ -79,6 +79,9 @@ class Session {
  private:
   struct Impl;
   explicit Session(std::unique_ptr<Impl> impl);
+  // From a file (`path`) or from bytes (`model`, path empty).
+  static Result<std::unique_ptr<Session>> create(const std::string& path, std::span<const std::byte> model,
+                                                 const std::string& name, const RuntimeOptions& options);
   std::unique_ptr<Impl> impl_;
 };
 

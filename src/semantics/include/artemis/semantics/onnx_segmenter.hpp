@@ -45,7 +45,8 @@ class OnnxSegmenter final : public Segmenter {
 
  private:
   OnnxSegmenter(OnnxModelConfig config, const Vocabulary& vocabulary);
-  // The crop of an instance CLIP sees: the square around its box, outside the mask the fill colour.
+  // The crop of an instance CLIP sees: the square around its box at the CLIP input's size, outside
+  // the mask the fill colour.
   [[nodiscard]] ImageU8 cropOf(const ImageU8& rgb, const InstanceMask& mask) const;
 
   OnnxModelConfig config_;
