@@ -45,7 +45,8 @@ test-release:
 # goes, RosbagDataset.* reads a bag's frames, poses and images under them), and the tests that run the pipeline once more
 # over a path another test under ASan already runs (a second render, delayed texture views, GPS
 # poses, vehicle boxes, mapper settings at their limits, traffic scoring, the same map at other thread
-# counts):
+# counts, more free-space scenes, the static-scene texture score, the ONNX segmenter's run on the
+# street, whose runtime and CLIP path RunOnnx.OpenClassesAndRuntimeErrors runs under them):
 # the Release pass runs and asserts them all, and the same code runs under the sanitizers in the
 # shorter pipeline, CLI and module tests. This keeps `make test` within CI's half hour on 2 cores.
 SLOW_TESTS := ^(SimSemantics\.FusionBeatsPerFrameMasksAndLosesNothingOnExactMasks|SimReconstruction\.(StreetMeshMatchesTheGroundTruthSurface|WithTrafficTheStaticStreetStays)|KittiReconstruction\..*|RunFolder\..*|KilledWrites\..*
@@ -55,7 +56,8 @@ SLOW_TESTS := $(SLOW_TESTS)|Hardening\.EveryMapperSettingIsCheckedAtAndBeyondBot
 SLOW_TESTS := $(SLOW_TESTS)|RunTexture\.DelayedViewsColourWhatLaterScansMeshed|RunPipeline\.EachTexturedViewIsRevisitedOnceAndHeldOutViewsNever
 SLOW_TESTS := $(SLOW_TESTS)|Cli\.(RunRefinesGpsPosesByDefault|VehicleBoxIsCheckedAndRecorded|ReferencePosesReplaceOxts)
 SLOW_TESTS := $(SLOW_TESTS)|RunSemantics\.SimulatedSegmenterWritesClassesConfidenceAndColours|CliEvalBoxes\.ScoresMeshAndMasksWithAndWithoutMovingTracks
-SLOW_TESTS := $(SLOW_TESTS)|FreeSpace\.(TrafficLeavesNoTrailAndTheStreetStays|AStaticStreetLosesAlmostNothing|SameMapOnOneThreadAndMany)
+SLOW_TESTS := $(SLOW_TESTS)|FreeSpace\.(TrafficLeavesNoTrailAndTheStreetStays|AStaticStreetLosesAlmostNothing|SameMapOnOneThreadAndMany|ACarOvertakingAlongsideLeavesNoTrail|AParkedCarStays)
+SLOW_TESTS := $(SLOW_TESTS)|RunOnnx\.ClassImagesThroughTheToyModelMapAsTheExactSimulatedMasks|EvalTexture\.StaticSceneLeavesOutTheBoxedPixelsOfTheListedTracks
 SLOW_TESTS := $(SLOW_TESTS)|RunPipeline\.(RefinementWithoutPosesRecoversTheTrajectory|SameMeshWhateverTheThreadCount))$$
 
 # -O1 -g1 (line tables: sanitizer reports keep file and line): this tree compiles in about half the
