@@ -37,6 +37,7 @@ nlohmann::ordered_json configJson(const RunFlags& f, const std::string& dataset_
                 {"aliases", f.aliases.empty() ? "built-in" : f.aliases},
                 {"sigma_depth_m", m.semantics.sigma_depth_m},
                 {"depth_window_px", m.semantics.depth_window_px},
+                {"silhouette_radius_px", m.semantics.geometry.silhouettes.radius_px},
                 {"background_score", m.semantics.background_score},
                 {"confidence_lambda", m.semantics.confidence_lambda},
                 {"voxel_prior", m.semantics.voxel_prior},

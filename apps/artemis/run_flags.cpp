@@ -204,6 +204,12 @@ void addSemanticFlags(CLI::App& cmd, RunFlags& f) {
       "--no-geometric-prior", [&fusion = sf](std::int64_t) { fusion.geometry.enabled = false; },
       "Dense segmenters: take the pixels' class probabilities as they are, without what the map's geometry "
       "(height above the ground, surface orientation) says of each class");
+  cmd.add_option("--silhouette-radius", sf.geometry.silhouettes.radius_px,
+                 "Object classes (vehicles, people): a point farther than 1 m + 10 % behind a return of the same "
+                 "class within this many pixels observes nothing, in fusion and refinement: the mask spilled past "
+                 "the object's silhouette (0: off)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 256));
   cmd.add_option("--voxel-prior", sf.voxel_prior,
                  "Weight of a vertex's voxel (0.4 m) distribution against its own cell's evidence")
       ->capture_default_str()

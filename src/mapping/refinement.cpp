@@ -16,6 +16,7 @@
 #include "artemis/core/colour.hpp"
 #include "artemis/core/projection.hpp"
 #include "artemis/core/timer.hpp"
+#include "artemis/mapping/frame_ground.hpp"
 #include "artemis/render/rasterizer.hpp"
 #include "semantic_update.hpp"
 
@@ -190,7 +191,7 @@ void fuseColours(const std::vector<Candidate>& candidates, SemanticMesh& mesh, c
 }  // namespace
 
 Refinement::Refinement(const RefinementParams& params, double background_score, const GeometricPriorParams& geometry)
-    : params_(params), background_score_(background_score), geometry_(geometry) {
+    : params_(params), background_score_(background_score), geometry_(geometry), silhouettes_(geometry.silhouettes) {
   if (!(params.sigma_photo > 0.0) || !(params.sigma_geom > 0.0) || !(params.depth_epsilon_m > 0.0) ||
       !(params.sigma_obs > 0.0) || !(params.min_reliability >= 0.0 && params.min_reliability <= 1.0) ||
       !(params.max_range_m > 0.0) || !(params.mask_floor > 0.0 && params.mask_floor < 1.0) ||
@@ -308,14 +309,26 @@ RefinementStats Refinement::refine(const VoxelMap& map, SemanticMesh& mesh, cons
       const float d = lidar_.nearest.at(c.u, c.v);
       return std::isfinite(d) && d > c.depth_m + std::max(kSeenThroughM, kSeenThroughShare * c.depth_m);
     };
+    // A vertex well behind a nearer return of the object class its pixel shows: the object's mask
+    // spilling past its silhouette (ObjectSilhouettes).
+    const semantics::Vocabulary& vocabulary =
+        input.vocabulary != nullptr ? *input.vocabulary : semantics::Vocabulary::semanticKitti();
+    const ObjectSilhouettes::LabelOf label_of = objectLabels(*observation, vocabulary);
+    const FrameGround ground = input.points_L != nullptr ? FrameGround(*input.points_L, T_W_L) : FrameGround();
+    const Eigen::Matrix3f R_W_L = T_W_L.linear().cast<float>();
+    const Eigen::Vector3f t_W_L = T_W_L.translation().cast<float>();
+    silhouettes_.build(lidar ? lidar_.points : std::vector<DepthProjection::Point>{}, camera.width_px, camera.height_px,
+                       label_of,
+                       [&](std::uint32_t i) { return ground.heightAbove(R_W_L * input.points_L->points[i] + t_W_L); });
     std::vector<SemanticVote> votes;
     for (const Candidate& c : candidates) {
-      if (c.reliability > 0.0f && !seen_through(c)) votes.push_back({c.vertex, c.u, c.v, c.reliability});
+      if (c.reliability > 0.0f && !seen_through(c) && !silhouettes_.behind(c.u, c.v, c.depth_m, label_of(c.u, c.v))) {
+        votes.push_back({c.vertex, c.u, c.v, c.reliability});
+      }
     }
     const MaskUpdateSettings settings{static_cast<float>(params_.mask_floor), static_cast<float>(background_score_),
                                       params_.mask_border_px};
     if (observation->isDense()) {
-      const FrameGround ground = input.points_L != nullptr ? FrameGround(*input.points_L, T_W_L) : FrameGround();
       updateFromDense(votes, observation->dense, geometry_,
                       input.vocabulary != nullptr ? *input.vocabulary : semantics::Vocabulary::semanticKitti(), ground,
                       settings, mesh);

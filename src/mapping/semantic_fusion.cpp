@@ -16,7 +16,8 @@
 
 namespace artemis::mapping {
 
-SemanticFusion::SemanticFusion(const SemanticFusionParams& params) : params_(params) {
+SemanticFusion::SemanticFusion(const SemanticFusionParams& params)
+    : params_(params), silhouettes_(params.geometry.silhouettes) {
   if (!(params.sigma_depth_m > 0.0) || params.depth_window_px < 0 || params.depth_window_px > 32 ||
       !(params.background_score >= 0.0 && params.background_score <= 1.0) || !(params.confidence_lambda > 0.0) ||
       !(params.voxel_prior > 0.0)) {
@@ -41,11 +42,20 @@ float SemanticFusion::depthGap(const DepthProjection::Point& q, int w, int h) co
   return q.depth - nearest;  // >= 0: the point itself is in the window
 }
 
+void SemanticFusion::buildSilhouettes(const PointCloud& points_L, const Isometry3d& T_W_L, const FrameGround& ground,
+                                      const ObjectSilhouettes::LabelOf& label_of, int w, int h) {
+  const Eigen::Matrix3f R_W_L = T_W_L.linear().cast<float>();
+  const Eigen::Vector3f t_W_L = T_W_L.translation().cast<float>();
+  silhouettes_.build(projected_.points, w, h, label_of,
+                     [&](std::uint32_t i) { return ground.heightAbove(R_W_L * points_L.points[i] + t_W_L); });
+}
+
 FusionStats SemanticFusion::fuseDense(const VertexOf& vertex_of, const PointCloud& points_L, const Isometry3d& T_W_L,
-                                      const CameraView& view, const semantics::DenseProbabilities& dense,
+                                      const CameraView& view, const semantics::SemanticObservation& observation,
                                       SemanticMesh& mesh, const semantics::Vocabulary& vocabulary) {
   Stopwatch clock;
   FusionStats stats;
+  const semantics::DenseProbabilities& dense = observation.dense;
   const int w = dense.width;
   const int h = dense.height;
   projectDepth(points_L, view, w, h, projected_);
@@ -56,6 +66,8 @@ FusionStats SemanticFusion::fuseDense(const VertexOf& vertex_of, const PointClou
   const Eigen::Vector3f camera_W = T_W_C.translation().cast<float>();
   const Eigen::Matrix3f R_W_L = T_W_L.linear().cast<float>();
   const Eigen::Vector3f t_W_L = T_W_L.translation().cast<float>();
+  const ObjectSilhouettes::LabelOf label_of = objectLabels(observation, vocabulary);
+  buildSilhouettes(points_L, T_W_L, ground, label_of, w, h);
   const auto inv_sigma_d = static_cast<float>(1.0 / params_.sigma_depth_m);
   // Each point's vertex, weight and distribution in parallel; then added in scan order, as fuse()
   // does, so that points sharing a cell add up in a fixed order whatever the thread count.
@@ -73,6 +85,7 @@ FusionStats SemanticFusion::fuseDense(const VertexOf& vertex_of, const PointClou
       const Eigen::Vector3f p_W = R_W_L * points_L.points[q.index] + t_W_L;
       const int u = static_cast<int>(q.pixel % static_cast<std::uint32_t>(w));
       const int v = static_cast<int>(q.pixel / static_cast<std::uint32_t>(w));
+      if (silhouettes_.behind(u, v, q.depth, label_of(u, v))) continue;
       // Height only: a vertex's normal is the sensor direction until its voxel is meshed.
       const float sigma_mask =
           evidence.read(u, v, ground.heightAbove(p_W), nullptr, &distribution[k * slots], scratch.data());
@@ -109,7 +122,7 @@ FusionStats SemanticFusion::fuseWith(const VertexOf& vertex_of, const PointCloud
                                      const CameraView& view, const semantics::SemanticObservation& observation,
                                      SemanticMesh& mesh, const semantics::Vocabulary* vocabulary) {
   if (observation.observed && observation.isDense()) {
-    return fuseDense(vertex_of, points_L, T_W_L, view, observation.dense, mesh,
+    return fuseDense(vertex_of, points_L, T_W_L, view, observation, mesh,
                      vocabulary != nullptr ? *vocabulary : semantics::Vocabulary::semanticKitti());
   }
   Stopwatch clock;
@@ -120,6 +133,9 @@ FusionStats SemanticFusion::fuseWith(const VertexOf& vertex_of, const PointCloud
   // Each point's pixel and depth, and the nearest LiDAR depth per pixel.
   projectDepth(points_L, view, w, h, projected_);
   stats.points_in_image = projected_.points.size();
+  const ObjectSilhouettes::LabelOf label_of =
+      objectLabels(observation, vocabulary != nullptr ? *vocabulary : semantics::Vocabulary::semanticKitti());
+  if (silhouettes_.enabled()) buildSilhouettes(points_L, T_W_L, FrameGround(points_L, T_W_L), label_of, w, h);
 
   // Slot of each mask's class, and of the background.
   std::vector<int> mask_slot(observation.masks.size() + 1, 0);
@@ -143,6 +159,7 @@ FusionStats SemanticFusion::fuseWith(const VertexOf& vertex_of, const PointCloud
     const int v = static_cast<int>(q.pixel / static_cast<std::uint32_t>(w));
     const float d_depth = depthGap(q, w, h);
     const std::uint16_t id = observation.mask_ids.at(u, v);
+    if (silhouettes_.behind(u, v, q.depth, label_of(u, v))) continue;
     const float score = id == 0 ? background : observation.masks[id - 1].score;
     const Eigen::Vector3f p_W = R_W_L * points_L.points[q.index] + t_W_L;
     const Eigen::Vector3f ray = (p_W - camera_W).normalized();

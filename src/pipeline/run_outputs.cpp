@@ -185,7 +185,8 @@ std::string semanticsJson(const RunReport& report, const RunParams& params) {
   const mapping::SemanticFusionParams& f = params.mapper.semantics;
   j["fusion"] = {{"sigma_depth_m", f.sigma_depth_m},       {"depth_window_px", f.depth_window_px},
                  {"background_score", f.background_score}, {"confidence_lambda", f.confidence_lambda},
-                 {"voxel_prior", f.voxel_prior},           {"geometric_prior", f.geometry.enabled}};
+                 {"voxel_prior", f.voxel_prior},           {"geometric_prior", f.geometry.enabled},
+                 {"silhouette_radius_px", f.geometry.silhouettes.radius_px}};
   return j.dump(1) + "\n";
 }
 Status writeRunOutputs(const mapping::Mapper& mapper, const RunParams& params, const std::string& trajectory,

@@ -4,6 +4,7 @@
 // clear errors for a missing model, a missing config and a config that does not fit the network.
 #include <gtest/gtest.h>
 
+#include <cstdio>
 #include <fstream>
 #include <nlohmann/json.hpp>
 #include <string>
@@ -48,14 +49,23 @@ TEST(RunDnn, EveryFrameIsSegmentedAndTheCarsAreLabelled) {
   ASSERT_TRUE(ply) << ply.status().message();
   auto classes = ply->scalarAs<int>("vertex", "class_id");
   ASSERT_TRUE(classes);
-  std::size_t car = 0;
-  for (const int c : *classes) {
+  auto y = ply->scalarAs<float>("vertex", "y");
+  ASSERT_TRUE(y);
+  std::size_t car = 0, car_right = 0;
+  for (std::size_t v = 0; v < classes->size(); ++v) {
+    const int c = (*classes)[v];
     ASSERT_TRUE(c == 0 || c == 1) << c;  // none or car
     car += c == 1 ? 1 : 0;
+    car_right += c == 1 && (*y)[v] < -5.0f ? 1 : 0;
   }
-  // Two parked cars and one ahead within the first frames: thousands of vertices, not most of the map.
-  EXPECT_GT(car, 1000u);
+  // Two parked cars far ahead and one car ahead in the right-hand lane within the first frames:
+  // hundreds of vertices, not most of the map. Right of the road (y < -5 m in the first frame's
+  // axes) stand only a fence and a hedge, onto which the car's mask spills: 443 of 1,156 car
+  // vertices there without the silhouette test (--silhouette-radius 0), 48 of 690 with it.
+  std::printf("car vertices %zu of %zu, %zu right of the road\n", car, classes->size(), car_right);
+  EXPECT_GT(car, 500u);
   EXPECT_LT(car * 5, classes->size());
+  EXPECT_LT(car_right * 8, car);
   const auto timing = readJson(tmp / "run/timing.json");
   EXPECT_GT(timing["stages"]["segment"]["median_ms"].get<double>(), 0.0);
   EXPECT_TRUE(timing["stages"].contains("segment_wait"));

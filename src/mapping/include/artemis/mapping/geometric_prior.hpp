@@ -27,6 +27,7 @@
 
 #include <Eigen/Core>
 
+#include "artemis/mapping/object_silhouettes.hpp"
 #include "artemis/semantics/vocabulary.hpp"
 
 namespace artemis::mapping {
@@ -43,6 +44,9 @@ struct GeometricPriorParams {
   double large_vehicle_max_m = 4.5;
   double person_max_m = 2.2;
   double min_likelihood = 0.02;
+  // The object-silhouette test of fusion and refinement (object_silhouettes.hpp); apart from
+  // `enabled`, which is about the prior above.
+  SilhouetteParams silhouettes;
 };
 
 class GeometricPrior {

@@ -66,6 +66,7 @@
 #include "artemis/core/projection.hpp"
 #include "artemis/core/transform.hpp"
 #include "artemis/mapping/geometric_prior.hpp"
+#include "artemis/mapping/object_silhouettes.hpp"
 #include "artemis/mapping/semantic_mesh.hpp"
 #include "artemis/mapping/voxel_map.hpp"
 #include "artemis/semantics/segmenter.hpp"
@@ -162,6 +163,7 @@ class Refinement {
   RefinementParams params_;
   double background_score_;
   GeometricPriorParams geometry_;
+  ObjectSilhouettes silhouettes_;  // per-view scratch of the semantic update
   DepthProjection lidar_;  // per-frame scratch
 };
 

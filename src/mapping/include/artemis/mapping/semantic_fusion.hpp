@@ -14,6 +14,9 @@
 //               of its pixel: ~0 on an open surface, large for a point just behind a nearer
 //               object's silhouette, where masks bleed across the occlusion edge.
 //   sigma_d     sigma_depth_m.
+// A point that lies well behind a nearer return of the same object class (or mask) within a few
+// pixels observes nothing (omega = 0): its pixel shows the object's mask spilling past the
+// object's silhouette (ObjectSilhouettes; geometry.silhouettes).
 //
 // "Each voxel maintains a semantic probability distribution": each observation goes to the
 // meshing voxel (0.4 m: the paper's voxel, whose W_sem gives eq. 7's confidence) and to the cell
@@ -36,7 +39,9 @@
 #include "artemis/core/point_cloud.hpp"
 #include "artemis/core/projection.hpp"
 #include "artemis/core/transform.hpp"
+#include "artemis/mapping/frame_ground.hpp"
 #include "artemis/mapping/geometric_prior.hpp"
+#include "artemis/mapping/object_silhouettes.hpp"
 #include "artemis/mapping/semantic_mesh.hpp"
 #include "artemis/mapping/voxel_map.hpp"
 #include "artemis/semantics/segmenter.hpp"
@@ -93,13 +98,17 @@ class SemanticFusion {
                        const CameraView& view, const semantics::SemanticObservation& observation, SemanticMesh& mesh,
                        const semantics::Vocabulary* vocabulary);
   FusionStats fuseDense(const VertexOf& vertex_of, const PointCloud& points_L, const Isometry3d& T_W_L,
-                        const CameraView& view, const semantics::DenseProbabilities& dense, SemanticMesh& mesh,
+                        const CameraView& view, const semantics::SemanticObservation& observation, SemanticMesh& mesh,
                         const semantics::Vocabulary& vocabulary);
+  // The object silhouettes of the frame's returns projected into projected_ (w x h).
+  void buildSilhouettes(const PointCloud& points_L, const Isometry3d& T_W_L, const FrameGround& ground,
+                        const ObjectSilhouettes::LabelOf& label_of, int w, int h);
   // d_depth of eq. 1 for a projected point: its depth minus the nearest within the window.
   [[nodiscard]] float depthGap(const DepthProjection::Point& q, int w, int h) const;
 
   SemanticFusionParams params_;
   DepthProjection projected_;  // per-frame scratch
+  ObjectSilhouettes silhouettes_;
 };
 
 }  // namespace artemis::mapping
