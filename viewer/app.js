@@ -255,7 +255,8 @@ function showInfo(info) {
     state.trajectoryLength = traj.length;
     requestRender();
   }
-  if (state.mode === 'classes') showLegend();
+  // The class names may arrive after a query was answered (a query in the link).
+  if (state.mode !== 'texture') showLegend();
 }
 
 async function poll() {
@@ -368,5 +369,12 @@ window.artemis = {
   },
   recolourAll,
 };
+
+// A link can carry a query: /?q=parked%20cars highlights it once the map has loaded.
+const linkedQuery = new URLSearchParams(window.location.search).get('q');
+if (linkedQuery) {
+  el('query').value = linkedQuery;
+  runQuery(linkedQuery.trim());
+}
 
 poll();
