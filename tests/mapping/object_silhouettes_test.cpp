@@ -10,7 +10,8 @@
 #include "artemis/mapping/object_silhouettes.hpp"
 #include "camera_scenes.hpp"
 
-namespace artemis::mapping {
+// A namespace of its own: the unity build puts this file beside dense_semantics_test.cpp.
+namespace artemis::mapping::silhouette_test {
 namespace {
 
 using semantics::ClassId;
@@ -177,4 +178,4 @@ TEST(ObjectSilhouettes, ACarsSpillOntoTheWallBehindDoesNotMakeTheWallACar) {
 }
 
 }  // namespace
-}  // namespace artemis::mapping
+}  // namespace artemis::mapping::silhouette_test
