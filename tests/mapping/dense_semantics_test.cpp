@@ -11,18 +11,15 @@
 #include "artemis/mapping/geometric_prior.hpp"
 #include "artemis/mapping/mapper.hpp"
 #include "camera_scenes.hpp"
+#include "class_ids.hpp"
 
 namespace artemis::mapping {
 namespace {
 
 using semantics::ClassId;
 using semantics::SemanticObservation;
-const semantics::Vocabulary& kitti() {
-  return semantics::Vocabulary::semanticKitti();
-}
-ClassId id(const char* name) {
-  return kitti().findByName(name)->id;
-}
+using test_classes::id;
+using test_classes::kitti;
 
 TEST(GeometricPrior, GroundClassesFadeAboveTheGroundAndObjectsAtIt) {
   const GeometricPriorParams p;

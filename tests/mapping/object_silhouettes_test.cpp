@@ -9,6 +9,7 @@
 #include "artemis/mapping/mapper.hpp"
 #include "artemis/mapping/object_silhouettes.hpp"
 #include "camera_scenes.hpp"
+#include "class_ids.hpp"
 
 // A namespace of its own: the unity build puts this file beside dense_semantics_test.cpp.
 namespace artemis::mapping::silhouette_test {
@@ -17,12 +18,8 @@ namespace {
 using semantics::ClassId;
 using semantics::SemanticObservation;
 
-const semantics::Vocabulary& kitti() {
-  return semantics::Vocabulary::semanticKitti();
-}
-ClassId id(const char* name) {
-  return kitti().findByName(name)->id;
-}
+using test_classes::id;
+using test_classes::kitti;
 
 float standing(std::uint32_t) {
   return 1.0f;
