@@ -2,8 +2,12 @@
 // Scenes for the semantic fusion and refinement tests: a camera at the LiDAR's origin and walls
 // of points in front of it.
 
+#include <cmath>
+#include <cstdint>
+
 #include "artemis/core/frame.hpp"
 #include "artemis/core/point_cloud.hpp"
+#include "artemis/semantics/segmenter.hpp"
 
 namespace artemis::mapping::test {
 
@@ -26,6 +30,27 @@ inline PointCloud wall(float x, float half_y, float half_z) {
     for (float z = -half_z + 0.025f; z < half_z; z += 0.05f) cloud.points.emplace_back(x, y, z);
   }
   return cloud;
+}
+
+// A dense observation of the 200 x 100 test camera over "none" and `car`: pixel (u, v) says car
+// with probability car_at(u, v), else none.
+template <class CarAt>
+semantics::SemanticObservation denseCar(semantics::ClassId car, const CarAt& car_at) {
+  semantics::SemanticObservation obs;
+  obs.observed = true;
+  obs.dense.width = 200;
+  obs.dense.height = 100;
+  obs.dense.classes = {semantics::kNoClass, car};
+  obs.dense.values.resize(200 * 100 * 2);
+  for (int v = 0; v < 100; ++v) {
+    for (int u = 0; u < 200; ++u) {
+      const float p = car_at(u, v);
+      const std::size_t k = 2 * static_cast<std::size_t>(v * 200 + u);
+      obs.dense.values[k] = static_cast<std::uint8_t>(std::lround((1.0f - p) * 255));
+      obs.dense.values[k + 1] = static_cast<std::uint8_t>(std::lround(p * 255));
+    }
+  }
+  return obs;
 }
 
 }  // namespace artemis::mapping::test

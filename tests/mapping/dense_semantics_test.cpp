@@ -82,17 +82,7 @@ TEST(FrameGround, HeightAboveTheLowestReturnNearbyInTheWorld) {
 
 // Every pixel of the 200 x 100 test camera says car with probability `car`, else none.
 SemanticObservation everywhereCar(float car) {
-  SemanticObservation obs;
-  obs.observed = true;
-  obs.dense.width = 200;
-  obs.dense.height = 100;
-  obs.dense.classes = {semantics::kNoClass, id("car")};
-  obs.dense.values.resize(200 * 100 * 2);
-  for (std::size_t k = 0; k < obs.dense.values.size(); k += 2) {
-    obs.dense.values[k] = static_cast<std::uint8_t>(std::lround((1.0f - car) * 255));
-    obs.dense.values[k + 1] = static_cast<std::uint8_t>(std::lround(car * 255));
-  }
-  return obs;
+  return test::denseCar(id("car"), [car](int, int) { return car; });
 }
 
 // The road, and a car-sized wall standing on it 8 m ahead (0.25 to 1.45 m above the road).

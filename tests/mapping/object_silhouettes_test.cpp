@@ -101,21 +101,8 @@ TEST(ObjectSilhouettes, ObjectLabelsAreObjectClassesAndObjectMasksOnly) {
 // A car-sized board (1 m half-size) 5 m ahead of a wall at 10 m; the camera's "car" region is the
 // board's silhouette (20 px half-size) and 14 px more all round, far past eq. 1's 3-px depth window.
 SemanticObservation spillingCar() {
-  SemanticObservation obs;
-  obs.observed = true;
-  obs.dense.width = 200;
-  obs.dense.height = 100;
-  obs.dense.classes = {semantics::kNoClass, id("car")};
-  obs.dense.values.resize(200 * 100 * 2);
-  for (int v = 0; v < 100; ++v) {
-    for (int u = 0; u < 200; ++u) {
-      const bool car = std::abs(u - 99.5) <= 34.0 && std::abs(v - 49.5) <= 34.0;
-      const std::size_t k = 2 * static_cast<std::size_t>(v * 200 + u);
-      obs.dense.values[k] = car ? 25 : 255;
-      obs.dense.values[k + 1] = car ? 230 : 0;
-    }
-  }
-  return obs;
+  return test::denseCar(
+      id("car"), [](int u, int v) { return std::abs(u - 99.5) <= 34.0 && std::abs(v - 49.5) <= 34.0 ? 0.9f : 0.0f; });
 }
 
 struct SpillCounts {
