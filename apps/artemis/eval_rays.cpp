@@ -10,14 +10,20 @@
 #include <filesystem>
 #include <memory>
 #include <nlohmann/json.hpp>
+#include <optional>
+#include <tuple>
 
 #include "artemis/core/log.hpp"
+#include "artemis/core/point_cloud.hpp"
 #include "artemis/core/timer.hpp"
 #include "artemis/datasets/dataset.hpp"
+#include "artemis/datasets/kitti_boxes.hpp"
+#include "artemis/datasets/kitti_raw.hpp"
 #include "artemis/datasets/pose_file.hpp"
 #include "artemis/eval/ray_consistency.hpp"
 #include "artemis/io/file.hpp"
 #include "artemis/io/ply.hpp"
+#include "box_exclusion.hpp"
 #include "commands.hpp"
 #include "flag_checks.hpp"
 #include "progress.hpp"
@@ -39,6 +45,38 @@ struct RayEvalFlags {
   eval::RayConsistencyParams params;
   std::string json;    // empty: RUN/rays.json
   std::string points;  // empty: none; else a PLY of the cast returns coloured by verdict
+  std::string boxes;   // KITTI tracking labels: also score without the returns of `tracks`
+  std::string tracks;
+  BoxExclusionParams exclusion;
+};
+
+// --boxes: the grown 3-D boxes of the listed tracks in each frame's LiDAR frame (one list a frame).
+using TrackBoxes = std::vector<std::vector<ExclusionBox>>;
+
+Result<TrackBoxes> movingBoxes(const RayEvalFlags& flags, const RunDataset& scans) {
+  const datasets::Dataset& d = *scans.dataset;
+  if (d.format() != "kitti-raw") {
+    return invalidArgument(fmt::format(
+        "{}: a {} recording; --boxes needs KITTI raw (its calibration R_rect_00 * T_cam0_velo places the boxes)",
+        d.root().string(), d.format()));
+  }
+  auto labels = datasets::readKittiBoxes(flags.boxes);
+  if (!labels) return labels.status();
+  auto tracks = parseTrackList(flags.tracks, *labels);
+  if (!tracks) return Status(tracks.status().code(), "--tracks: " + tracks.status().message());
+  auto T_R0_L = datasets::readKittiRawRectifiedFromLidar(d.root());
+  if (!T_R0_L) return T_R0_L.status();
+  auto boxes =
+      placeExclusionBoxes(*labels, *tracks, T_R0_L->inverse(), scans.trajectory, d.firstIndex(), flags.exclusion);
+  if (!boxes) return Status(boxes.status().code(), flags.boxes + ": " + boxes.status().message());
+  return std::move(*boxes);
+}
+
+// The rays of one frame: all of them, and those whose return lies outside the moving boxes.
+struct FrameTallies {
+  eval::RayTally all;
+  eval::RayTally outside;
+  std::size_t left_out = 0;
 };
 
 // The cast returns as a coloured point cloud, to see where the mesh disagrees with its scans:
@@ -137,6 +175,26 @@ void printTable(const eval::RayTally& t, std::size_t frames, const RayEvalFlags&
   fmt::print("hole: {:.1f}% of them hit nothing at all\n", 100.0 * shareOf(t.hole_no_hit, t.all.hole));
 }
 
+// The figures without the listed tracks' returns: a map of what stays holds no car driving through.
+void printOutside(const FrameTallies& t, const RayEvalFlags& flags) {
+  fmt::print("without the returns inside the 3-D boxes of tracks {} of {} ({} left out):\n", flags.tracks, flags.boxes,
+             t.left_out);
+  for (const auto& [name, kind, n] : {std::tuple{"surface", eval::RayClass::kSurface, t.outside.all.surface},
+                                      std::tuple{"blocked", eval::RayClass::kBlocked, t.outside.all.blocked},
+                                      std::tuple{"hole", eval::RayClass::kHole, t.outside.all.hole}}) {
+    fmt::print("{:<10} {:>8.1f}% {:>10}\n", name, 100.0 * t.outside.all.share(kind), n);
+  }
+}
+
+Json outsideJson(const FrameTallies& t, const RayEvalFlags& flags) {
+  return {{"boxes", flags.boxes},
+          {"tracks", flags.tracks},
+          {"box_frame_offset", flags.exclusion.frame_offset},
+          {"left_out", t.left_out},
+          {"shares", sharesJson(t.outside.all)},
+          {"counts", countsJson(t.outside.all)}};
+}
+
 Json settingsJson(const RayEvalFlags& flags, const RunDataset& scans) {
   const datasets::Dataset& d = *scans.dataset;
   return {{"dataset", d.root().string()},
@@ -154,10 +212,12 @@ Json settingsJson(const RayEvalFlags& flags, const RunDataset& scans) {
 
 // Casts the frames' subsampled returns; per-frame figures go into `frames_json`.
 // With a `cloud`, each ray's verdict is added to it too.
-Result<eval::RayTally> castFrames(const RunDataset& scans, const eval::RayConsistency& rays, const RayEvalFlags& flags,
-                                  Json& frames_json, std::size_t& frames_cast, VerdictCloud* cloud) {
+// With `moving`, the returns outside the frame's boxes are cast again on their own.
+Result<FrameTallies> castFrames(const RunDataset& scans, const eval::RayConsistency& rays, const RayEvalFlags& flags,
+                                const TrackBoxes* moving, Json& frames_json, std::size_t& frames_cast,
+                                VerdictCloud* cloud) {
   const datasets::Dataset& d = *scans.dataset;
-  eval::RayTally total;
+  FrameTallies total;
   ProgressLine progress("casting", "frames");
   for (std::size_t i = 0; i < d.size(); i += flags.every) {
     auto frame = d.frame(i);
@@ -168,6 +228,14 @@ Result<eval::RayTally> castFrames(const RunDataset& scans, const eval::RayConsis
     returns_W.reserve(picked.size());
     for (const std::size_t k : picked) returns_W.push_back(T_W_L * frame->points_L.points[k]);
     const eval::RayTally tally = rays.classifyFrame(T_W_L.translation(), returns_W);
+    if (moving != nullptr) {
+      PointCloud outside;
+      for (const std::size_t k : picked) outside.points.push_back(frame->points_L.points[k]);
+      dropPointsInBoxes(outside, (*moving)[i]);
+      total.left_out += picked.size() - outside.size();
+      for (Eigen::Vector3f& p : outside.points) p = T_W_L * p;
+      total.outside += rays.classifyFrame(T_W_L.translation(), outside.points);
+    }
     if (cloud != nullptr) {
       for (const Eigen::Vector3f& r : returns_W)
         cloud->add(T_W_L.translation(), r, rays.classify(T_W_L.translation(), r));
@@ -176,7 +244,7 @@ Result<eval::RayTally> castFrames(const RunDataset& scans, const eval::RayConsis
                            {"shares", sharesJson(tally.all)},
                            {"counts", countsJson(tally.all)},
                            {"blocked_ground", tally.blocked.ground}});
-    total += tally;
+    total.all += tally;
     ++frames_cast;
     progress.update(i + 1, d.size());
   }
@@ -214,14 +282,23 @@ int runRayEval(const RayEvalFlags& flags) {
   Json frames = Json::array();
   std::size_t frames_cast = 0;
   VerdictCloud cloud;
-  auto tally = castFrames(*scans, *rays, flags, frames, frames_cast, flags.points.empty() ? nullptr : &cloud);
-  if (!tally) return fail(tally.status());
+  std::optional<TrackBoxes> moving;
+  if (!flags.boxes.empty()) {
+    auto boxes = movingBoxes(flags, *scans);
+    if (!boxes) return fail(boxes.status());
+    moving = std::move(*boxes);
+  }
+  auto tallies = castFrames(*scans, *rays, flags, moving ? &*moving : nullptr, frames, frames_cast,
+                            flags.points.empty() ? nullptr : &cloud);
+  if (!tallies) return fail(tallies.status());
+  const eval::RayTally* tally = &tallies->all;
   if (!flags.points.empty()) {
     if (Status s = cloud.write(flags.points); !s.isOk()) return fail(s);
     log::info("the cast returns, coloured by verdict, written to {}", flags.points);
   }
   const double seconds = clock.elapsedS();
   printTable(*tally, frames_cast, flags);
+  if (moving) printOutside(*tallies, flags);
 
   Json j{{"run", flags.run},
          {"mesh", mesh_path.string()},
@@ -232,6 +309,7 @@ int runRayEval(const RayEvalFlags& flags) {
          {"blocked", blockedJson(*tally, flags.params)},
          {"hole_no_hit", tally->hole_no_hit},
          {"frames", frames},
+         {"without_tracks", moving ? outsideJson(*tallies, flags) : Json(nullptr)},
          {"seconds", {{"scene", build_s}, {"total", seconds}}}};
   const fs::path out = flags.json.empty() ? fs::path(flags.run) / "rays.json" : fs::path(flags.json);
   const std::string text = j.dump(2) + "\n";
@@ -278,6 +356,19 @@ void addEvalRaysCommand(CLI::App& eval, int& exit_code) {
   cmd->add_option("--points", flags->points,
                   "Also write the cast returns as a PLY cloud coloured by verdict (surface grey, blocked red, hole "
                   "blue, the hit that blocked a ray yellow; property 'verdict' 0-3)");
+  auto* boxes = cmd->add_option("--boxes", flags->boxes,
+                                "KITTI tracking labels (label_02): also score without the returns inside the 3-D "
+                                "boxes of --tracks (grown 0.5 m along the car, 0.15 m at the sides and on top; a "
+                                "frame either side): the cars that drive through the recording");
+  auto* tracks = cmd->add_option("--tracks", flags->tracks,
+                                 "--boxes: the track ids to leave out, comma-separated (0,1), or 'all'; required "
+                                 "with --boxes");
+  boxes->needs(tracks);
+  tracks->needs(boxes);
+  cmd->add_option("--box-frame-offset", flags->exclusion.frame_offset,
+                  "--boxes: the boxes of label frame f belong to recording frame f + K")
+      ->capture_default_str()
+      ->check(CLI::Range(-100000, 100000));
   cmd->callback([flags, &exit_code] { exit_code = runRayEval(*flags); });
 }
 

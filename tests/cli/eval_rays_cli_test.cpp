@@ -1,8 +1,8 @@
 // artemis eval rays as a user runs it, on three frames of the demo street simulated with the CLI:
 // the run's own mesh (rays.json written into the run, per-frame figures that add up), the
 // simulator's ground-truth surface as the mesh (every return is "surface"), the same surface
-// lifted by 0.5 m (the road now blocks the road's returns), and bad inputs that must be clear
-// errors naming the file.
+// lifted by 0.5 m (the road now blocks the road's returns), bad inputs that must be clear errors
+// naming the file, and on KITTI 0013 the figures without the moving cars' returns (--boxes).
 
 #include <gtest/gtest.h>
 
@@ -163,6 +163,43 @@ TEST_F(CliEvalRays, ErrorsNameTheFile) {
   r = test::runCli("eval rays " + elsewhere.string() + " --max-range 1");
   EXPECT_NE(r.exit_code, 0);
   EXPECT_NE(r.err.find("--max-range"), std::string::npos) << r.err;
+
+  // Boxes place themselves only in a KITTI raw recording.
+  r = test::runCli("eval rays " + elsewhere.string() + " --boxes " + (*tmp_ / "labels.txt").string() + " --tracks 0");
+  EXPECT_NE(r.exit_code, 0);
+  EXPECT_NE(r.err.find("--boxes needs KITTI raw"), std::string::npos) << r.err;
+}
+
+// The cars driving ahead on KITTI 0013 (tracks 0 and 1): their returns left out, the rest cast again.
+TEST(CliEvalRaysBoxes, WithoutTheMovingTracksReturns) {
+  ARTEMIS_REQUIRE_DATA("kitti_raw");
+  test::TempDir tmp;
+  const fs::path raw = test::dataDir() / "kitti_raw";
+  const fs::path run = tmp / "run";
+  const auto mapped =
+      test::runCli("run " + raw.string() + " --frames 0:4 --poses " + (raw / "reference_poses.txt").string() +
+                   " --pose-refinement off --texture off --out " + run.string());
+  ASSERT_EQ(mapped.exit_code, 0) << mapped.err;
+  const std::string labels = (raw / "tracking_labels.txt").string();
+  const auto r =
+      test::runCli("eval rays " + run.string() + " --every 1 --returns 5000 --boxes " + labels + " --tracks 0,1");
+  ASSERT_EQ(r.exit_code, 0) << r.err;
+  EXPECT_NE(r.out.find("without the returns inside the 3-D boxes of tracks 0,1"), std::string::npos) << r.out;
+  const auto j = readJson(run / "rays.json");
+  const auto& without = j["without_tracks"];
+  ASSERT_TRUE(without.is_object()) << j.dump();
+  // The car ahead fills a few hundred of each frame's 5,000 returns.
+  const int left_out = without["left_out"].get<int>();
+  EXPECT_GT(left_out, 4 * 50);
+  EXPECT_LT(left_out, 4 * 1000);
+  EXPECT_EQ(without["counts"]["rays"].get<int>() + left_out, j["counts"]["rays"].get<int>());
+  double shares = 0.0;
+  for (const char* k : {"surface", "blocked", "hole"}) shares += without["shares"][k].get<double>();
+  EXPECT_NEAR(shares, 1.0, 1e-9);
+  // A track the labels lack is an error that names it.
+  const auto missing = test::runCli("eval rays " + run.string() + " --boxes " + labels + " --tracks 7");
+  EXPECT_NE(missing.exit_code, 0);
+  EXPECT_NE(missing.err.find("7"), std::string::npos) << missing.err;
 }
 
 }  // namespace
