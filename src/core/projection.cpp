@@ -55,19 +55,38 @@ void minFilter(ImageF32& image, int r) {
   if (r <= 0 || image.empty()) return;
   const int w = image.width();
   const int h = image.height();
-  std::vector<float> line(static_cast<std::size_t>(std::max(w, h)));
-  // One pass along a line of n values `stride` apart, starting at `first`.
-  const auto pass = [&](float* first, int n, std::size_t stride) {
-    for (int k = 0; k < n; ++k) line[static_cast<std::size_t>(k)] = first[static_cast<std::size_t>(k) * stride];
-    for (int k = 0; k < n; ++k) {
-      const auto lo = line.begin() + std::max(0, k - r);
-      const auto hi = line.begin() + std::min(n - 1, k + r) + 1;
-      first[static_cast<std::size_t>(k) * stride] = *std::min_element(lo, hi);
-    }
-  };
+  const auto row_size = static_cast<std::size_t>(w);
   float* data = image.data().data();
-  for (int v = 0; v < h; ++v) pass(data + static_cast<std::size_t>(v) * static_cast<std::size_t>(w), w, 1);
-  for (int u = 0; u < w; ++u) pass(data + u, h, static_cast<std::size_t>(w));
+  const auto row = [&](int v) { return data + static_cast<std::size_t>(v) * row_size; };
+  // Along each row, in place, from a copy of the row.
+  std::vector<float> line(row_size);
+  for (int v = 0; v < h; ++v) {
+    std::copy_n(row(v), row_size, line.data());
+    float* out = row(v);
+    for (int u = 0; u < w; ++u) {
+      const int last = std::min(w - 1, u + r);
+      float m = line[static_cast<std::size_t>(std::max(0, u - r))];
+      for (int k = std::max(0, u - r) + 1; k <= last; ++k) m = std::min(m, line[static_cast<std::size_t>(k)]);
+      out[u] = m;
+    }
+  }
+  // Down the columns a whole row at a time, in memory order (a pass down each column would touch a
+  // new cache line at every step). The rows above, already overwritten, come from a ring of copies.
+  std::vector<float> above(static_cast<std::size_t>(r) * row_size);
+  const auto saved = [&](int v) { return above.data() + static_cast<std::size_t>(v % r) * row_size; };
+  for (int v = 0; v < h; ++v) {
+    std::copy_n(row(v), row_size, line.data());
+    float* out = row(v);
+    for (int k = std::max(0, v - r); k < v; ++k) {
+      const float* in = saved(k);
+      for (std::size_t u = 0; u < row_size; ++u) out[u] = std::min(out[u], in[u]);
+    }
+    for (int k = v + 1; k <= std::min(h - 1, v + r); ++k) {
+      const float* in = row(k);
+      for (std::size_t u = 0; u < row_size; ++u) out[u] = std::min(out[u], in[u]);
+    }
+    std::copy_n(line.data(), row_size, saved(v));
+  }
 }
 
 }  // namespace artemis
