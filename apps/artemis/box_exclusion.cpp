@@ -7,6 +7,8 @@
 #include <cmath>
 #include <sstream>
 
+#include "artemis/datasets/kitti_raw.hpp"
+
 namespace artemis::cli {
 
 namespace {
@@ -108,6 +110,27 @@ std::vector<std::uint8_t> pixelsInBoxes(const datasets::KittiBoxLabels& labels, 
     }
   }
   return inside;
+}
+
+Result<std::vector<std::vector<ExclusionBox>>> placeTrackBoxes(
+    const datasets::Dataset& d, const std::string& labels_path, const std::string& tracks_text,
+    std::span<const Isometry3d> T_W_L, const BoxExclusionParams& params, const std::string& boxes_flag,
+    const std::string& tracks_flag, std::set<int>* tracks) {
+  if (d.format() != "kitti-raw") {
+    return invalidArgument(
+        fmt::format("{}: a {} recording; {} needs KITTI raw (its calibration R_rect_00 * T_cam0_velo places the boxes)",
+                    d.root().string(), d.format(), boxes_flag));
+  }
+  auto labels = datasets::readKittiBoxes(labels_path);
+  if (!labels) return labels.status();
+  auto ids = parseTrackList(tracks_text, *labels);
+  if (!ids) return Status(ids.status().code(), tracks_flag + ": " + ids.status().message());
+  auto T_R0_L = datasets::readKittiRawRectifiedFromLidar(d.root());
+  if (!T_R0_L) return T_R0_L.status();
+  auto boxes = placeExclusionBoxes(*labels, *ids, T_R0_L->inverse(), T_W_L, d.firstIndex(), params);
+  if (!boxes) return Status(boxes.status().code(), labels_path + ": " + boxes.status().message());
+  if (tracks != nullptr) *tracks = std::move(*ids);
+  return std::move(*boxes);
 }
 
 Result<std::set<int>> parseTrackList(const std::string& text, const datasets::KittiBoxLabels& labels) {

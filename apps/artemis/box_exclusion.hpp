@@ -19,6 +19,7 @@
 #include "artemis/core/point_cloud.hpp"
 #include "artemis/core/status.hpp"
 #include "artemis/core/transform.hpp"
+#include "artemis/datasets/dataset.hpp"
 #include "artemis/datasets/kitti_boxes.hpp"
 #include "artemis/eval/box_truth.hpp"
 
@@ -66,6 +67,15 @@ std::map<int, std::size_t> dropPointsInBoxes(PointCloud& points_L, std::span<con
 // driving through the recording is in the real image but, rightly, not in a map of what stays.
 std::vector<std::uint8_t> pixelsInBoxes(const datasets::KittiBoxLabels& labels, const std::set<int>& tracks,
                                         std::size_t label_frame, int width, int height, int padding_px);
+
+// The boxes of `tracks_text` (parseTrackList) of the label file `labels_path`, placed in each frame
+// of recording `d` (KITTI raw: its calibration places them) with the poses `T_W_L` (one a frame of
+// d). Errors name the options: `boxes_flag` ("--boxes") and `tracks_flag` ("--tracks"). The track
+// ids go into `tracks` when given.
+Result<std::vector<std::vector<ExclusionBox>>> placeTrackBoxes(
+    const datasets::Dataset& d, const std::string& labels_path, const std::string& tracks_text,
+    std::span<const Isometry3d> T_W_L, const BoxExclusionParams& params, const std::string& boxes_flag,
+    const std::string& tracks_flag, std::set<int>* tracks = nullptr);
 
 // "0,1,5" -> {0, 1, 5}; "all": every track of `labels`. An error names a token that is not a
 // non-negative integer, or an empty list.

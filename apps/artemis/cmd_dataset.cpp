@@ -108,24 +108,12 @@ struct Exclusion {
 };
 
 Result<Exclusion> prepareExclusion(const ExportFlags& flags, const datasets::Dataset& d) {
-  if (d.format() != "kitti-raw") {
-    return invalidArgument(fmt::format(
-        "{}: a {} recording; --exclude-boxes needs KITTI raw (its calibration R_rect_00 * T_cam0_velo places the "
-        "boxes)",
-        d.root().string(), d.format()));
-  }
-  auto labels = datasets::readKittiBoxes(flags.exclude_boxes);
-  if (!labels) return labels.status();
-  auto tracks = parseTrackList(flags.exclude_tracks, *labels);
-  if (!tracks) return Status(tracks.status().code(), "--exclude-tracks: " + tracks.status().message());
-  auto T_R0_L = datasets::readKittiRawRectifiedFromLidar(d.root());
-  if (!T_R0_L) return T_R0_L.status();
   std::vector<Isometry3d> T_W_L;
   for (std::size_t i = 0; i < d.size(); ++i) T_W_L.push_back(d.pose(i));
-  auto boxes = placeExclusionBoxes(*labels, *tracks, T_R0_L->inverse(), T_W_L, d.firstIndex(), flags.exclusion);
-  if (!boxes) return Status(boxes.status().code(), flags.exclude_boxes + ": " + boxes.status().message());
   Exclusion out;
-  out.tracks = std::move(*tracks);
+  auto boxes = placeTrackBoxes(d, flags.exclude_boxes, flags.exclude_tracks, T_W_L, flags.exclusion, "--exclude-boxes",
+                               "--exclude-tracks", &out.tracks);
+  if (!boxes) return boxes.status();
   out.boxes_L = std::move(*boxes);
   for (int id : out.tracks) out.dropped_by_frame[id].assign(d.size(), 0);
   return out;

@@ -17,8 +17,6 @@
 #include "artemis/core/point_cloud.hpp"
 #include "artemis/core/timer.hpp"
 #include "artemis/datasets/dataset.hpp"
-#include "artemis/datasets/kitti_boxes.hpp"
-#include "artemis/datasets/kitti_raw.hpp"
 #include "artemis/datasets/pose_file.hpp"
 #include "artemis/eval/ray_consistency.hpp"
 #include "artemis/io/file.hpp"
@@ -54,22 +52,8 @@ struct RayEvalFlags {
 using TrackBoxes = std::vector<std::vector<ExclusionBox>>;
 
 Result<TrackBoxes> movingBoxes(const RayEvalFlags& flags, const RunDataset& scans) {
-  const datasets::Dataset& d = *scans.dataset;
-  if (d.format() != "kitti-raw") {
-    return invalidArgument(fmt::format(
-        "{}: a {} recording; --boxes needs KITTI raw (its calibration R_rect_00 * T_cam0_velo places the boxes)",
-        d.root().string(), d.format()));
-  }
-  auto labels = datasets::readKittiBoxes(flags.boxes);
-  if (!labels) return labels.status();
-  auto tracks = parseTrackList(flags.tracks, *labels);
-  if (!tracks) return Status(tracks.status().code(), "--tracks: " + tracks.status().message());
-  auto T_R0_L = datasets::readKittiRawRectifiedFromLidar(d.root());
-  if (!T_R0_L) return T_R0_L.status();
-  auto boxes =
-      placeExclusionBoxes(*labels, *tracks, T_R0_L->inverse(), scans.trajectory, d.firstIndex(), flags.exclusion);
-  if (!boxes) return Status(boxes.status().code(), flags.boxes + ": " + boxes.status().message());
-  return std::move(*boxes);
+  return placeTrackBoxes(*scans.dataset, flags.boxes, flags.tracks, scans.trajectory, flags.exclusion, "--boxes",
+                         "--tracks");
 }
 
 // The rays of one frame: all of them, and those whose return lies outside the moving boxes.
