@@ -33,8 +33,7 @@ void ObjectSilhouettes::build(const std::vector<DepthProjection::Point>& points,
   rows_ = height / r + 1;
   const std::size_t cells = static_cast<std::size_t>(cols_) * static_cast<std::size_t>(rows_);
   // Counting sort of the labelled returns by cell.
-  std::vector<Entry> labelled;
-  labelled.reserve(points.size() / 4);
+  labelled_.clear();
   start_.assign(cells + 1, 0);
   for (const DepthProjection::Point& p : points) {
     const int u = static_cast<int>(p.pixel % static_cast<std::uint32_t>(width));
@@ -42,16 +41,18 @@ void ObjectSilhouettes::build(const std::vector<DepthProjection::Point>& points,
     if (v >= height) continue;
     const std::uint32_t label = label_of(u, v);
     if (label == 0 || height_of(p.index) < static_cast<float>(params_.min_height_m)) continue;  // NaN stands
-    labelled.push_back({u, v, p.depth, label});
-    ++start_[static_cast<std::size_t>(v / r) * static_cast<std::size_t>(cols_) + static_cast<std::size_t>(u / r) + 1];
+    labelled_.push_back({u, v, p.depth, label});
+    ++start_[cellOf(u, v) + 1];
   }
   for (std::size_t c = 0; c < cells; ++c) start_[c + 1] += start_[c];
-  entries_.resize(labelled.size());
-  std::vector<std::uint32_t> next(start_.begin(), start_.end() - 1);
-  for (const Entry& e : labelled) {
-    entries_[next[static_cast<std::size_t>(e.v / r) * static_cast<std::size_t>(cols_) +
-                  static_cast<std::size_t>(e.u / r)]++] = e;
-  }
+  entries_.resize(labelled_.size());
+  next_.assign(start_.begin(), start_.end() - 1);
+  for (const Entry& e : labelled_) entries_[next_[cellOf(e.u, e.v)]++] = e;
+}
+
+std::size_t ObjectSilhouettes::cellOf(int u, int v) const {
+  const int r = params_.radius_px;
+  return static_cast<std::size_t>(v / r) * static_cast<std::size_t>(cols_) + static_cast<std::size_t>(u / r);
 }
 
 bool ObjectSilhouettes::behind(int u, int v, float depth_m, std::uint32_t label) const {

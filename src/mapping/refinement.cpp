@@ -161,7 +161,9 @@ RefinementStats Refinement::refine(const VoxelMap& map, SemanticMesh& mesh, cons
     const semantics::Vocabulary& vocabulary =
         input.vocabulary != nullptr ? *input.vocabulary : semantics::Vocabulary::semanticKitti();
     const ObjectSilhouettes::LabelOf label_of = objectLabels(*observation, vocabulary);
-    const FrameGround ground = input.points_L != nullptr ? FrameGround(*input.points_L, T_W_L) : FrameGround();
+    // The frame's ground: for the dense prior, and for the silhouettes (whose returns on it are none).
+    const bool need_ground = input.points_L != nullptr && (observation->isDense() || (lidar && silhouettes_.enabled()));
+    const FrameGround ground = need_ground ? FrameGround(*input.points_L, T_W_L) : FrameGround();
     const Eigen::Matrix3f R_W_L = T_W_L.linear().cast<float>();
     const Eigen::Vector3f t_W_L = T_W_L.translation().cast<float>();
     silhouettes_.build(lidar ? lidar_.points : std::vector<DepthProjection::Point>{}, camera.width_px, camera.height_px,

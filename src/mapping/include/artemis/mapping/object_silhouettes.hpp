@@ -33,6 +33,7 @@
 // simulated segmenter's standard noise, 200 frames) car and person IoU stay within a point of the
 // test's absence at 20 px.
 
+#include <cstddef>
 #include <cstdint>
 #include <functional>
 #include <vector>
@@ -78,11 +79,16 @@ class ObjectSilhouettes {
     float depth;
     std::uint32_t label;
   };
+  // Cell of radius_px of a pixel inside the image.
+  [[nodiscard]] std::size_t cellOf(int u, int v) const;
+
   SilhouetteParams params_;
   int cols_ = 0;
   int rows_ = 0;
   std::vector<std::uint32_t> start_;  // per cell of radius_px, into entries_ (cols_ * rows_ + 1)
   std::vector<Entry> entries_;
+  std::vector<Entry> labelled_;  // build()'s scratch, kept between frames
+  std::vector<std::uint32_t> next_;
 };
 
 // The object label of each pixel of `observation`: the class (plus one) of a dense observation's
