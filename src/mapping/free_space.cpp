@@ -32,6 +32,9 @@ constexpr float kSkimBandM = 0.25f;
 // the distance to the neighbouring rays (~72 deg from the normal).
 constexpr float kGrazingSlope = 3.0f;
 
+// How many voxels ahead countMisses fetches.
+constexpr std::size_t kFetchAhead = 4;
+
 }  // namespace
 
 FreeSpaceCarver::FreeSpaceCarver(const FreeSpaceParams& params, const MesherParams& mesher,
@@ -146,6 +149,8 @@ void FreeSpaceCarver::countMisses(std::span<const Sweep* const> sweeps, Tested t
   const std::uint32_t frame = map.frame();
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, voxels.size(), 64), [&](const auto& r) {
     for (std::size_t i = r.begin(); i < r.end(); ++i) {
+      // The voxels lie scattered in memory: fetch a later one's while this one is tested.
+      if (i + kFetchAhead < r.end()) prefetch(map.voxelAt(voxels[i + kFetchAhead]));
       counts[i] = countVoxel(sweeps, tested, frame, map.voxelAt(voxels[i]), removals[i]);
     }
   });

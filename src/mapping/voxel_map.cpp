@@ -96,20 +96,15 @@ std::vector<VoxelKey> VoxelMap::insert(const std::vector<Eigen::Vector3f>& point
     }
   });
 
-  // Then in order (vertex ids follow the scan): the hash table, with each point's slot fetched a
-  // few points ahead of its use, since the table is far larger than the caches.
+  // Then in order (vertex ids follow the scan): the hash table and the voxels, far larger than the
+  // caches. Each point's memory is fetched ahead of its use in three steps, each from what the one
+  // before brought in: its hash slot, then the voxel that slot names (usually the point's own; the
+  // wrong one only wastes a fetch), then that voxel's point arrays.
   std::vector<VoxelKey> active;
-  constexpr std::size_t kAhead = 8;
-  const auto prefetch = [&](std::size_t i) {
-    if (i < prepared_.size() && prepared_[i].sub_cell >= 0) {
-      __builtin_prefetch(&table_[static_cast<std::size_t>(prepared_[i].hash) & (table_.size() - 1)]);
-    }
-  };
-  for (std::size_t i = 0; i < kAhead; ++i) prefetch(i);
   VoxelKey last_key{std::numeric_limits<std::int32_t>::min(), 0, 0};
   std::uint32_t last_index = 0;
   for (std::size_t i = 0; i < points_W.size(); ++i) {
-    prefetch(i + kAhead);
+    prefetchAhead(i);
     Prepared& q = prepared_[i];
     if (q.sub_cell < 0) {
       rejected_ += q.sub_cell == -1 ? 1 : 0;
@@ -142,6 +137,26 @@ std::vector<VoxelKey> VoxelMap::insert(const std::vector<Eigen::Vector3f>& point
     }
   }
   return active;
+}
+
+void VoxelMap::prefetchAhead(std::size_t i) const {
+  // Steps apart far enough for a fetch from memory to arrive while the points between are handled.
+  constexpr std::size_t kStep = 6;
+  const auto slot = [&](std::size_t k) -> const std::uint32_t* {
+    if (k >= prepared_.size() || prepared_[k].sub_cell < 0) return nullptr;
+    return &table_[static_cast<std::size_t>(prepared_[k].hash) & (table_.size() - 1)];
+  };
+  if (const std::uint32_t* s = slot(i + 3 * kStep)) __builtin_prefetch(s);
+  if (const std::uint32_t* s = slot(i + 2 * kStep); s != nullptr && *s != 0) {
+    const std::size_t index = *s - 1;
+    __builtin_prefetch(&keys_[index]);
+    prefetch(voxels_[index]);
+  }
+  if (const std::uint32_t* s = slot(i + kStep); s != nullptr && *s != 0) {
+    const Voxel& v = voxels_[*s - 1];
+    __builtin_prefetch(v.sub_cells.data());
+    __builtin_prefetch(v.evidence.data());
+  }
 }
 
 void VoxelMap::countHit(Voxel& v, std::uint16_t sub_cell) const {
