@@ -41,10 +41,15 @@ try {
   // While frames are mapped (the final meshing after the last frame is one step of its own).
   const mapping = samples.filter((s) => s.running && s.done > 0 && s.done < s.total);
   const span_s = (mapping[mapping.length - 1].t_ms - mapping[0].t_ms) / 1000;
-  const versions = new Set(mapping.map((s) => s.version)).size;
-  console.log(`${versions} versions over ${span_s.toFixed(2)} s of mapping; the whole map is ${fullBytes} bytes`);
+  // Each publish is one new version: count them by the version numbers, not by the versions this
+  // loop happened to see (on a loaded machine a large update takes long to fetch, and the
+  // publishes in between are never sampled).
+  const versions = mapping[mapping.length - 1].version - mapping[0].version;
+  const seen = new Set(mapping.map((s) => s.version)).size;
+  console.log(`${versions} new versions (${seen} sampled) over ${span_s.toFixed(2)} s of mapping; ` +
+    `the whole map is ${fullBytes} bytes`);
   check(span_s > 1, `mapping was watched for ${span_s.toFixed(2)} s`);
-  check((versions - 1) / span_s >= 2, `${((versions - 1) / span_s).toFixed(1)} updates per second while mapping`);
+  check(versions / span_s >= 2, `${(versions / span_s).toFixed(1)} updates per second while mapping`);
   const updates = samples.filter((s) => s.bytes !== undefined && s.since > 0);
   check(updates.length >= 3, `${updates.length} incremental updates fetched`);
   const bytes = updates.map((s) => s.bytes).sort((a, b) => a - b);

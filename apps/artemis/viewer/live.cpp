@@ -31,6 +31,10 @@ void LivePublisher::onFrame(const pipeline::FrameUpdate& update) {
 }
 
 void LivePublisher::publish(const pipeline::FrameUpdate& update) {
+  // The interval runs from the start of a publish: timed from its end, a publish that takes a
+  // while on a loaded machine, with frames a little over interval_s apart, let only every
+  // second frame through.
+  since_publish_.reset();
   Stopwatch clock;
   const std::vector<BlockKey> keys(dirty_.begin(), dirty_.end());
   dirty_.clear();
@@ -39,7 +43,6 @@ void LivePublisher::publish(const pipeline::FrameUpdate& update) {
   scene_.setInfo("status", statusJson(update.times, update.done, update.total, update.frame_index, !update.finished));
   ++publishes_;
   log::debug("viewer: published {} blocks in {:.1f} ms", keys.size(), clock.elapsedMs());
-  since_publish_.reset();
 }
 
 nlohmann::json statusJson(const pipeline::StageTimes& times, std::size_t done, std::size_t total,
