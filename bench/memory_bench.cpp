@@ -1,0 +1,186 @@
+// Memory over a long drive: the simulated street with traffic (by default "drive0013": a car ahead
+// of the rig and one behind it in its lane), driven for --frames frames (default 3,000; at the
+// default 17 m/s mean speed about 5 km), each frame made by the simulator as the whole pipeline
+// (texture on) reads it. ("street" traffic places movers along the whole street, and the
+// simulator handles every one of them each frame: on a 5 km street 1.8 s a frame.) After every
+// frame the process's resident memory is sampled. Prints the resident memory at frames 1,000 and
+// the last, the peak, the per-frame time (median and p95) of the first 200 frames against the whole
+// run (with and without the time spent waiting for the simulator, which shares the cores), and
+// writes OUT/memory.csv (frame, resident MB, the frame's time and its reading in ms) and, where
+// /usr/bin/python3 has matplotlib, OUT/memory.png (bench/plot_memory.py).
+//
+//   build/bench/memory_bench [--frames N] [--speed MPS] [--traffic none|street|drive0013] [--out DIR]
+//
+// Takes about 0.2 s a frame on 2 cores (the simulator's camera is most of it), plus the run's
+// checkpoints and final meshing: 3,000 frames about 13 minutes and 8 GB at the peak.
+#include <fmt/format.h>
+
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "artemis/core/allocator.hpp"
+#include "artemis/core/timer.hpp"
+#include "artemis/pipeline/run.hpp"
+#include "artemis/pipeline/timing.hpp"
+#include "sim_dataset.hpp"
+
+namespace {
+
+namespace fs = std::filesystem;
+using namespace artemis;
+
+struct Options {
+  int frames = 3000;
+  double speed_mps = 17.0;
+  std::string traffic = "drive0013";
+  fs::path out = "out/memory-bench";
+};
+
+bool parse(int argc, char** argv, Options& o) {
+  for (int i = 1; i < argc; ++i) {
+    const std::string arg = argv[i];
+    const bool has_value = i + 1 < argc;
+    if (arg == "--frames" && has_value) {
+      o.frames = std::atoi(argv[++i]);
+    } else if (arg == "--speed" && has_value) {
+      o.speed_mps = std::atof(argv[++i]);
+    } else if (arg == "--traffic" && has_value) {
+      o.traffic = argv[++i];
+    } else if (arg == "--out" && has_value) {
+      o.out = argv[++i];
+    } else {
+      fmt::print(stderr, "unknown or incomplete option {}\n", arg);
+      return false;
+    }
+  }
+  if (o.frames < 2 || !(o.speed_mps > 0.0)) {
+    fmt::print(stderr, "--frames must be at least 2 and --speed above 0\n");
+    return false;
+  }
+  return true;
+}
+
+// Resident memory after each frame, and the frame's time (the pipeline's "total").
+struct Sample {
+  std::size_t frame = 0;
+  double rss_mb = 0.0;
+};
+
+// `sim_mb`: the resident memory before the run (mostly the simulator's street), on every row.
+bool writeCsv(const fs::path& path, const std::vector<Sample>& samples, const pipeline::StageTimes& times,
+              double sim_mb) {
+  const std::vector<double>& total_ms = times.samples("total");
+  const std::vector<double>& read_ms = times.samples("read");
+  std::ofstream csv(path);
+  csv << "frame,rss_mb,sim_mb,total_ms,read_ms\n";
+  for (std::size_t i = 0; i < samples.size(); ++i) {
+    csv << fmt::format("{},{:.1f},{:.1f},{:.2f},{:.2f}\n", samples[i].frame, samples[i].rss_mb, sim_mb,
+                       i < total_ms.size() ? total_ms[i] : 0.0, i < read_ms.size() ? read_ms[i] : 0.0);
+  }
+  return static_cast<bool>(csv);
+}
+
+// The frame's time without waiting for the simulator (its "read"), which shares the cores.
+pipeline::StageTimes mappingTimes(const pipeline::StageTimes& times) {
+  pipeline::StageTimes out;
+  const std::vector<double>& total_ms = times.samples("total");
+  const std::vector<double>& read_ms = times.samples("read");
+  for (std::size_t i = 0; i < total_ms.size() && i < read_ms.size(); ++i) out.add("mapping", total_ms[i] - read_ms[i]);
+  return out;
+}
+
+// Resident memory at frame 1,000 (or the last) and the last, with and without the simulator's
+// share; the frame time over the first 200 frames and the whole run.
+void printFigures(const std::vector<Sample>& samples, const pipeline::RunReport& report, double sim_mb) {
+  const auto rssAt = [&](std::size_t frame) {
+    return samples[std::min(frame, samples.size()) - 1].rss_mb;
+  };
+  const std::size_t last = samples.size();
+  const std::size_t early = std::min<std::size_t>(200, last);
+  const pipeline::StageTimes mapping = mappingTimes(report.times);
+  const std::size_t mid = std::min<std::size_t>(1000, last);
+  fmt::print("resident memory: {:.0f} MB at frame {}, {:.0f} MB at frame {} ({:+.0f} %); peak {:.0f} MB\n", rssAt(mid),
+             mid, rssAt(last), last, 100.0 * (rssAt(last) / rssAt(mid) - 1.0), report.peak_rss_mb);
+  fmt::print("  of which the simulator's street (before the run): {:.0f} MB; the rest: {:.0f} MB at frame {}, {:.0f} MB "
+             "at frame {} ({:+.0f} %), peak {:.0f} MB\n",
+             sim_mb, rssAt(mid) - sim_mb, mid, rssAt(last) - sim_mb, last,
+             100.0 * ((rssAt(last) - sim_mb) / (rssAt(mid) - sim_mb) - 1.0), report.peak_rss_mb - sim_mb);
+  const auto perFrame = [&](const pipeline::StageTimes& times, const char* stage, const char* what) {
+    const pipeline::StageSummary first = times.summary(stage, 0, early);
+    const pipeline::StageSummary whole = times.summary(stage, 0, report.frames);
+    fmt::print("per frame ({}): frames 1-{} median {:.1f} ms, p95 {:.1f} ms; all {} frames median {:.1f} ms, "
+               "p95 {:.1f} ms\n",
+               what, early, first.median_ms, first.p95_ms, report.frames, whole.median_ms, whole.p95_ms);
+  };
+  perFrame(report.times, "total", "the frame, reading included");
+  perFrame(mapping, "mapping", "without waiting for the simulator");
+  fmt::print("{} vertices, {} faces\n", report.vertices, report.faces);
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  artemis::useTunedAllocator(argv);  // as the artemis program runs (core/allocator.hpp)
+  Options o;
+  if (!parse(argc, argv, o)) return 2;
+  auto preset = sim::presetParams("street");
+  auto traffic = sim::trafficPreset(o.traffic);
+  if (!preset || !traffic) {
+    fmt::print(stderr, "{}\n", (preset ? traffic.status() : preset.status()).toString());
+    return 2;
+  }
+  sim::SimParams params = *preset;
+  params.frames = o.frames;
+  params.trajectory.speed_mean_mps = o.speed_mps;
+  params.traffic = *traffic;
+  if (Status s = sim::validate(params); !s.isOk()) {
+    fmt::print(stderr, "{}\n", s.toString());
+    return 2;
+  }
+  Stopwatch build_clock;
+  auto dataset = bench::SimDataset::open(params, o.out);
+  if (!dataset) {
+    fmt::print(stderr, "{}\n", dataset.status().toString());
+    return 1;
+  }
+  const double street_m = (*dataset)->simulator().scene().length_m;
+  const double sim_mb = pipeline::residentMb();
+  fmt::print("simulated street: {:.1f} km, {} frames at {:.0f} m/s mean, traffic {}; scene built in {:.1f} s, "
+             "{:.0f} MB resident\n",
+             street_m / 1000.0, o.frames, o.speed_mps, o.traffic, build_clock.elapsedS(), sim_mb);
+  std::fflush(stdout);
+
+  std::vector<Sample> samples;
+  samples.reserve(static_cast<std::size_t>(o.frames));
+  const auto progress = [&](std::size_t done, std::size_t total) {
+    samples.push_back({done, pipeline::residentMb()});
+    if (done % 100 == 0 || done == total) {
+      fmt::print(stderr, "frame {} of {}: {:.0f} MB resident\n", done, total, samples.back().rss_mb);
+    }
+  };
+  pipeline::RunParams run;
+  Stopwatch clock;
+  auto report = pipeline::runPipeline(**dataset, run, o.out / "run", "{}\n", progress);
+  if (!report) {
+    fmt::print(stderr, "{}\n", report.status().toString());
+    return 1;
+  }
+  if (!writeCsv(o.out / "memory.csv", samples, report->times, sim_mb)) {
+    fmt::print(stderr, "cannot write {}\n", (o.out / "memory.csv").string());
+    return 1;
+  }
+  printFigures(samples, *report, sim_mb);
+  fmt::print("{:.0f} s in all; {}\n", clock.elapsedS(), (o.out / "memory.csv").string());
+  const fs::path script = fs::path(ARTEMIS_SOURCE_DIR) / "bench" / "plot_memory.py";
+  const std::string command = fmt::format("/usr/bin/python3 {} {} {}", script.string(),
+                                          (o.out / "memory.csv").string(), (o.out / "memory.png").string());
+  std::fflush(stdout);
+  if (std::system(command.c_str()) != 0) {
+    fmt::print(stderr, "no plot ({} failed: needs /usr/bin/python3 with matplotlib)\n", command);
+  }
+  return 0;
+}
