@@ -1,8 +1,8 @@
 // Memory over a long drive: the simulated street with traffic (by default "drive0013": a car ahead
 // of the rig and one behind it in its lane), driven for --frames frames (default 3,000; at the
 // default 17 m/s mean speed about 5 km), each frame made by the simulator as the whole pipeline
-// (texture on) reads it. ("street" traffic places movers along the whole street, and the
-// simulator handles every one of them each frame: on a 5 km street 1.8 s a frame.) After every
+// (texture on) reads it. (--traffic street puts cars both ways, cyclists and people along the
+// whole street.) After every
 // frame the process's resident memory is sampled. Prints the resident memory at frames 1,000 and
 // the last, the peak, the per-frame time (median and p95) of the first 200 frames against the whole
 // run (with and without the time spent waiting for the simulator, which shares the cores), and
@@ -12,7 +12,7 @@
 //   build/bench/memory_bench [--frames N] [--speed MPS] [--traffic none|street|drive0013] [--out DIR]
 //
 // Takes about 0.2 s a frame on 2 cores (the simulator's camera is most of it), plus the run's
-// checkpoints and final meshing: 3,000 frames about 13 minutes and 8 GB at the peak.
+// checkpoints and final meshing: 3,000 frames 13-15 minutes and 8-8.5 GB at the peak.
 #include <fmt/format.h>
 
 #include <cstdio>
