@@ -6,7 +6,7 @@
 // frame the process's resident memory is sampled. Prints the resident memory at frames 1,000 and
 // the last, the peak, the per-frame time (median and p95) of the first 200 frames against the whole
 // run (with and without the time spent waiting for the simulator, which shares the cores), and
-// writes OUT/memory.csv (frame, resident MB, the frame's time and its reading in ms) and, where
+// writes OUT/memory.csv (frame, resident MB, each stage's time in ms) and, where
 // /usr/bin/python3 has matplotlib, OUT/memory.png (bench/plot_memory.py).
 //
 //   build/bench/memory_bench [--frames N] [--speed MPS] [--traffic none|street|drive0013] [--out DIR]
@@ -71,15 +71,22 @@ struct Sample {
 };
 
 // `sim_mb`: the resident memory before the run (mostly the simulator's street), on every row.
+// Then one column per stage the run timed a frame at a time (`total` and `read` among them; the
+// stages that time views rather than frames, such as `revisit`, are left out).
 bool writeCsv(const fs::path& path, const std::vector<Sample>& samples, const pipeline::StageTimes& times,
               double sim_mb) {
-  const std::vector<double>& total_ms = times.samples("total");
-  const std::vector<double>& read_ms = times.samples("read");
+  std::vector<std::string> stages;
+  for (const std::string& stage : times.stages()) {
+    if (times.samples(stage).size() == samples.size()) stages.push_back(stage);
+  }
   std::ofstream csv(path);
-  csv << "frame,rss_mb,sim_mb,total_ms,read_ms\n";
+  csv << "frame,rss_mb,sim_mb";
+  for (const std::string& stage : stages) csv << ',' << stage << "_ms";
+  csv << '\n';
   for (std::size_t i = 0; i < samples.size(); ++i) {
-    csv << fmt::format("{},{:.1f},{:.1f},{:.2f},{:.2f}\n", samples[i].frame, samples[i].rss_mb, sim_mb,
-                       i < total_ms.size() ? total_ms[i] : 0.0, i < read_ms.size() ? read_ms[i] : 0.0);
+    csv << fmt::format("{},{:.1f},{:.1f}", samples[i].frame, samples[i].rss_mb, sim_mb);
+    for (const std::string& stage : stages) csv << fmt::format(",{:.2f}", times.samples(stage)[i]);
+    csv << '\n';
   }
   return static_cast<bool>(csv);
 }
