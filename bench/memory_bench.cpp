@@ -64,7 +64,7 @@ bool parse(int argc, char** argv, Options& o) {
   return true;
 }
 
-// Resident memory after each frame, and the frame's time (the pipeline's "total").
+// Resident memory after a frame (the frames' times come from the run's report).
 struct Sample {
   std::size_t frame = 0;
   double rss_mb = 0.0;
