@@ -120,6 +120,8 @@ void SemanticMesh::save(ArchiveWriter& out) const {
   out.array(normals_);
   out.array(voxels_);
   out.array(views_);
+  out.array(uids_);
+  out.value(next_uid_);
   out.array(slots_);
   out.array(evidence_);
   out.array(semantic_weight_);
@@ -145,6 +147,8 @@ void SemanticMesh::load(ArchiveReader& in) {
   in.array(normals_);
   in.array(voxels_);
   in.array(views_);
+  in.array(uids_);
+  in.value(next_uid_);
   in.array(slots_);
   in.array(evidence_);
   in.array(semantic_weight_);
@@ -157,7 +161,8 @@ void SemanticMesh::load(ArchiveReader& in) {
   in.array(colour_var_);
   const std::size_t n = positions_.size();
   const std::size_t slots = slots_.size();
-  if (slots == 0 || measured_.size() != n || normals_.size() != n || voxels_.size() != n || views_.size() != n ||
+  if (slots == 0 || measured_.size() != n || normals_.size() != n || voxels_.size() != n || views_.size() != n || uids_.size() != n ||
+      (n > 0 && uids_.back() >= next_uid_) ||
       voxel_index_.size() != n || semantic_weight_.size() > n || evidence_.size() != semantic_weight_.size() * slots ||
       refined_weight_.size() > n || log_likelihood_.size() != refined_weight_.size() * slots ||
       voxel_evidence_.size() != voxel_weight_.size() * slots || colour_mean_.size() != colour_var_.size() ||
@@ -319,6 +324,7 @@ void Mapper::save(ArchiveWriter& out) const {
   mesh_.save(out);
   swept_.save(out);
   carver_.save(out);
+  tiles_.save(out);
 }
 
 void Mapper::load(ArchiveReader& in) {
@@ -327,10 +333,12 @@ void Mapper::load(ArchiveReader& in) {
   mesh_.load(in);
   swept_.load(in);
   carver_.load(in);
-  // Every vertex's voxel must be one the map has.
+  tiles_.load(in);
+  // Every vertex's voxel must be one the map has (or, for a vertex of a finished tile that a face
+  // in memory uses, none).
   const std::size_t voxels = map_.size();
   for (const std::uint32_t index : mesh_.voxelIndices()) {
-    if (index >= voxels) in.fail("a mesh vertex names a voxel the map does not have");
+    if (index >= voxels && index != SemanticMesh::kNoVoxel) in.fail("a mesh vertex names a voxel the map does not have");
   }
   const std::size_t vertices = mesh_.vertexCount();
   for (std::uint32_t index = 0; index < voxels; ++index) {

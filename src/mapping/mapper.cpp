@@ -8,6 +8,8 @@
 #include <cmath>
 #include <iterator>
 #include <map>
+#include <stdexcept>
+#include <string>
 #include <unordered_set>
 
 #include "artemis/core/timer.hpp"
@@ -56,7 +58,13 @@ Mapper::Mapper(const MapperParams& params)
       constraint_(params.constraint, params.semantics.confidence_lambda),
       swept_(params.vehicle_box_L),
       carver_(params.free_space, params.mesher, params.vehicle_box_L),
+      tiles_(params.tiles, params.voxels.voxel_size_m),
       arena_(std::make_unique<Arena>(params.threads)) {
+  if (params.tiles.enabled && !(params.tiles.evict_distance_m > params.refinement.max_range_m)) {
+    throw std::invalid_argument("tiles: the eviction distance (" + std::to_string(params.tiles.evict_distance_m) +
+                                " m) must exceed stage 2's reach (" + std::to_string(params.refinement.max_range_m) +
+                                " m): a view could still refine a finished tile");
+  }
   mesh_.setVoxelPrior(static_cast<float>(params.semantics.voxel_prior));
   mesh_.setStageOneWeight(static_cast<float>(params.refinement.stage_one_weight));
 }
@@ -81,18 +89,21 @@ FrameStats Mapper::integrate(const PointCloud& points_L, const Isometry3d& T_W_L
   }
   reach = std::sqrt(reach);
   const std::vector<std::uint8_t>* drop = nullptr;
+  if (swept_.enabled() || tiles_.anyFinished()) {
+    drop_.assign(points_W.size(), 0);
+    drop = &drop_;
+  }
   if (swept_.enabled()) {
     swept_.add(T_W_L);
     swept_.focus(t, std::min(reach, 1000.0f));
-    drop_.assign(points_W.size(), 0);
     arena_->arena.execute([&] {
       tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points_W.size(), 4096), [&](const auto& range) {
         for (std::size_t i = range.begin(); i < range.end(); ++i) drop_[i] = swept_.contains(points_W[i]) ? 1 : 0;
       });
     });
     stats.points_in_vehicle_path = static_cast<std::size_t>(std::count(drop_.begin(), drop_.end(), std::uint8_t{1}));
-    drop = &drop_;
   }
+  if (tiles_.anyFinished()) stats.points_in_finished_tiles = dropInFinishedTiles(points_W);
   const std::size_t vertices_before = mesh_.vertexCount();
   std::vector<VoxelKey> active;
   const bool fuse = semantic != nullptr && semantic->view != nullptr && semantic->observation != nullptr;
@@ -186,10 +197,21 @@ RefinementStats Mapper::revisit(const CameraView& view, const ViewMemory& memory
 
 std::size_t Mapper::finish() {
   mesh_.beginFrame();
-  // Pending: voxels with points added since they were meshed, and voxels whose neighbours gained
-  // points since then (their rim, and so the faces along their border, changed).
+  const std::vector<VoxelKey> pending = pendingAmong(map_.keys());
+  meshInChunks(pending);
+  if (tiles_.anyFinished()) {
+    // Holes along the border of a finished tile stay open: their other side left memory, and the
+    // tile's own fills may already close some of them (tile_eviction.cpp).
+    fillHoles(mesh_.faces(), [&](const Face& f) { return cornersIn(f, tiles_.finishedTiles(), true); });
+  } else {
+    fillHoles(mesh_.faces());
+  }
+  return pending.size();
+}
+
+std::vector<VoxelKey> Mapper::pendingAmong(const std::vector<VoxelKey>& keys) const {
   std::vector<VoxelKey> pending;
-  for (const VoxelKey& key : map_.keys()) {
+  for (const VoxelKey& key : keys) {
     const Voxel& v = *map_.find(key);
     bool stale = v.vertices.size() > v.points_when_meshed || v.carved_frame > v.meshed_frame;
     for (int dx = -1; dx <= 1 && !stale; ++dx) {
@@ -203,20 +225,24 @@ std::size_t Mapper::finish() {
     if (stale) pending.push_back(key);
   }
   sortSpatially(pending);
+  return pending;
+}
+
+void Mapper::meshInChunks(const std::vector<VoxelKey>& keys) {
   // In spatially sorted chunks the size of a busy frame's work, so that the constraint's patch (a
   // few hundred bytes a vertex) stays small however much of the map is pending.
   constexpr std::size_t kChunk = 4096;
-  for (std::size_t begin = 0; begin < pending.size(); begin += kChunk) {
-    const auto first = pending.begin() + static_cast<std::ptrdiff_t>(begin);
-    meshVoxels({first, first + static_cast<std::ptrdiff_t>(std::min(kChunk, pending.size() - begin))});
+  for (std::size_t begin = 0; begin < keys.size(); begin += kChunk) {
+    const auto first = keys.begin() + static_cast<std::ptrdiff_t>(begin);
+    meshVoxels({first, first + static_cast<std::ptrdiff_t>(std::min(kChunk, keys.size() - begin))});
   }
-  fillHoles();
-  return pending.size();
 }
 
-void Mapper::fillHoles() {
+void Mapper::fillHoles(const std::vector<Face>& faces, const std::function<bool(const Face&)>& keep) {
+  HoleFillStats stats;
   const std::vector<Face> fills =
-      holeFillingFaces(mesh_.faces(), mesh_.positions(), params_.mesher.max_edge_m, params_.holes, &hole_stats_);
+      holeFillingFaces(faces, mesh_.positions(), params_.mesher.max_edge_m, params_.holes, &stats);
+  hole_stats_ += stats;
   // Owned like the mesher's faces: by the voxel holding the centroid, else by the voxel of origin
   // of the smallest vertex id.
   std::map<VoxelKey, std::vector<Face>> by_owner;
@@ -225,13 +251,13 @@ void Mapper::fillHoles() {
   for (const Face& f : fills) {
     VoxelKey owner = voxelKeyOf((p[f[0]] + p[f[1]] + p[f[2]]) / 3.0f, inv_size);
     if (map_.find(owner) == nullptr) owner = mesh_.voxels()[std::min({f[0], f[1], f[2]})];
-    by_owner[owner].push_back(f);
+    if (!keep || keep(f)) by_owner[owner].push_back(f);
   }
   for (auto& [owner, added] : by_owner) {
     const std::vector<Face>* own = mesh_.voxelFaces(owner);
-    std::vector<Face> faces = own != nullptr ? *own : std::vector<Face>{};
-    faces.insert(faces.end(), added.begin(), added.end());
-    mesh_.setVoxelFaces(owner, std::move(faces));
+    std::vector<Face> merged = own != nullptr ? *own : std::vector<Face>{};
+    merged.insert(merged.end(), added.begin(), added.end());
+    mesh_.setVoxelFaces(owner, std::move(merged));
   }
 }
 

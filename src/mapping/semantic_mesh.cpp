@@ -4,6 +4,8 @@
 #include <array>
 #include <cmath>
 #include <limits>
+#include <stdexcept>
+#include <string>
 
 namespace artemis::mapping {
 
@@ -19,6 +21,7 @@ void SemanticMesh::growVertexRoom() {
   normals_.reserve(room);
   voxels_.reserve(room);
   views_.reserve(room);
+  uids_.reserve(room);
   voxel_index_.reserve(room);
   semantic_weight_.reserve(room);
   refined_weight_.reserve(room);
@@ -39,6 +42,7 @@ std::uint32_t SemanticMesh::addVertex(const Eigen::Vector3f& p_W, const VoxelKey
   normals_.push_back(to_sensor);  // until the voxel's plane gives a better one
   voxels_.push_back(voxel);
   views_.push_back(to_sensor);
+  uids_.push_back(next_uid_++);
   return static_cast<std::uint32_t>(positions_.size() - 1);
 }
 
@@ -77,6 +81,7 @@ void SemanticMesh::observe(std::uint32_t v, std::size_t slot, float w) {
   evidence_[static_cast<std::size_t>(v) * slots_.size() + slot] += w;
   semantic_weight_[v] += w;
   const std::uint32_t voxel = voxel_index_[v];
+  if (voxel == kNoVoxel) return;
   if (voxel >= voxel_weight_.size()) {
     const std::size_t n = std::max<std::size_t>(voxel + 1, 2 * voxel_weight_.size());
     voxel_weight_.resize(n, 0.0f);
@@ -221,6 +226,76 @@ std::vector<Face> SemanticMesh::faces() const {
     out.insert(out.end(), faces.begin(), faces.end());
   }
   return out;
+}
+
+std::vector<VoxelKey> SemanticMesh::faceOwners() const {
+  std::vector<VoxelKey> keys;
+  keys.reserve(faces_.size());
+  for (const auto& [key, faces] : faces_) {
+    if (!faces.empty()) keys.push_back(key);
+  }
+  return keys;
+}
+
+void SemanticMesh::dropVoxelFaces(const VoxelKey& voxel) {
+  const auto it = faces_.find(voxel);
+  if (it == faces_.end()) return;
+  face_count_ -= it->second.size();
+  faces_.erase(it);
+}
+
+namespace {
+
+// Moves the kept items of `a` (stride values per item, item i kept where new_id[i] is not kGone)
+// down to their new places; `a` may hold fewer items than new_id (arrays grown on demand).
+template <typename T>
+void keepItems(std::vector<T>& a, const std::vector<std::uint32_t>& new_id, std::size_t stride = 1) {
+  const std::size_t n = std::min(a.size() / stride, new_id.size());
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    if (new_id[i] == SemanticMesh::kGone) continue;
+    if (kept != i) std::copy_n(a.begin() + static_cast<std::ptrdiff_t>(i * stride), stride,
+                               a.begin() + static_cast<std::ptrdiff_t>(kept * stride));
+    ++kept;
+  }
+  a.resize(kept * stride);
+}
+
+}  // namespace
+
+void SemanticMesh::compactVertices(const std::vector<std::uint32_t>& new_id,
+                                   const std::vector<std::uint32_t>& voxel_new_id) {
+  if (new_id.size() != positions_.size()) {
+    throw std::invalid_argument("SemanticMesh::compactVertices: " + std::to_string(new_id.size()) + " ids for " +
+                                std::to_string(positions_.size()) + " vertices");
+  }
+  const std::size_t slots = slots_.size();
+  keepItems(positions_, new_id);
+  keepItems(measured_, new_id);
+  keepItems(normals_, new_id);
+  keepItems(voxels_, new_id);
+  keepItems(views_, new_id);
+  keepItems(uids_, new_id);
+  keepItems(voxel_index_, new_id);
+  keepItems(semantic_weight_, new_id);
+  keepItems(evidence_, new_id, slots);
+  keepItems(refined_weight_, new_id);
+  keepItems(log_likelihood_, new_id, slots);
+  keepItems(colour_mean_, new_id);
+  keepItems(colour_var_, new_id);
+  for (std::uint32_t& voxel : voxel_index_) {
+    voxel = voxel < voxel_new_id.size() ? voxel_new_id[voxel] : kNoVoxel;  // kGone is kNoVoxel
+  }
+  keepItems(voxel_weight_, voxel_new_id);
+  keepItems(voxel_evidence_, voxel_new_id, slots);
+  for (auto& [key, faces] : faces_) {
+    for (Face& f : faces) {
+      for (std::uint32_t& v : f) {
+        if (new_id[v] == kGone) throw std::logic_error("SemanticMesh::compactVertices: a face uses a vertex that goes");
+        v = new_id[v];
+      }
+    }
+  }
 }
 
 SemanticMesh::Compact SemanticMesh::compact() const {

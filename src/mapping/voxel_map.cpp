@@ -60,11 +60,56 @@ std::uint32_t VoxelMap::findOrAdd(const VoxelKey& key, std::uint64_t hash) {
 
 void VoxelMap::grow() {
   table_.assign(table_.size() * 2, 0);
+  reindex();
+}
+
+void VoxelMap::reindex() {
+  std::fill(table_.begin(), table_.end(), 0);
   const std::size_t mask = table_.size() - 1;
   for (std::size_t i = 0; i < keys_.size(); ++i) {
     std::size_t slot = slotOf(keys_[i]);
     while (table_[slot] != 0) slot = (slot + 1) & mask;
     table_[slot] = static_cast<std::uint32_t>(i + 1);
+  }
+}
+
+std::vector<std::uint32_t> VoxelMap::removeVoxels(const std::vector<std::uint8_t>& gone) {
+  if (gone.size() != voxels_.size()) {
+    throw std::invalid_argument("VoxelMap::removeVoxels: " + std::to_string(gone.size()) + " flags for " +
+                                std::to_string(voxels_.size()) + " voxels");
+  }
+  std::vector<std::uint32_t> new_id(voxels_.size(), kNoVertex);
+  std::size_t kept = 0;
+  for (std::size_t i = 0; i < voxels_.size(); ++i) {
+    if (gone[i] != 0) continue;
+    if (kept != i) {
+      voxels_[kept] = std::move(voxels_[i]);
+      keys_[kept] = keys_[i];
+    }
+    new_id[i] = static_cast<std::uint32_t>(kept++);
+  }
+  voxels_.erase(voxels_.begin() + static_cast<std::ptrdiff_t>(kept), voxels_.end());
+  keys_.resize(kept);
+  // The table keeps its size (the map grows back as the drive goes on); the blocks keep their
+  // voxels' creation order, and empty blocks go.
+  reindex();
+  std::vector<Block> blocks;
+  block_of_.clear();
+  for (Block& b : blocks_) {
+    std::erase_if(b.voxels, [&](std::uint32_t index) { return new_id[index] == kNoVertex; });
+    if (b.voxels.empty()) continue;
+    for (std::uint32_t& index : b.voxels) index = new_id[index];
+    block_of_.emplace(b.key, static_cast<std::uint32_t>(blocks.size()));
+    blocks.push_back(std::move(b));
+  }
+  blocks_ = std::move(blocks);
+  prepared_.clear();
+  return new_id;
+}
+
+void VoxelMap::renumberVertices(const std::vector<std::uint32_t>& new_id) {
+  for (Voxel& v : voxels_) {
+    for (std::uint32_t& id : v.vertices) id = new_id[id];
   }
 }
 

@@ -21,7 +21,7 @@ namespace artemis::pipeline {
 inline constexpr const char* kCheckpointFile = "checkpoint.bin";
 inline constexpr const char* kResumeRecordFile = "checkpoint.json";  // RunParams::resume_record_json
 // Raised whenever what a checkpoint holds, or how, changes.
-inline constexpr std::uint32_t kCheckpointVersion = 2;  // 2: point clouds keep per-point times
+inline constexpr std::uint32_t kCheckpointVersion = 3;  // 2: point clouds keep per-point times; 3: tiles
 
 // Writes the header, then what `write_state` writes (streamed to the file), then its size and
 // checksum, atomically to `path`. Returns the state's size in bytes.

@@ -50,6 +50,21 @@ struct HoleFillStats {
   std::size_t bumpy = 0;       // a corner farther than max_plane_distance_m from the plane
   std::size_t unclipped = 0;   // no triangulation with short edges, or one that would repeat an edge
   double ms = 0.0;
+
+  // Adds another call's figures (tiles close their holes one by one).
+  HoleFillStats& operator+=(const HoleFillStats& o) {
+    boundary_edges += o.boundary_edges;
+    loops += o.loops;
+    filled += o.filled;
+    faces += o.faces;
+    long_edges += o.long_edges;
+    islands += o.islands;
+    rough += o.rough;
+    bumpy += o.bumpy;
+    unclipped += o.unclipped;
+    ms += o.ms;
+    return *this;
+  }
 };
 
 // The faces that close the small holes of the mesh (`faces` over `positions`); `max_edge_m` is the

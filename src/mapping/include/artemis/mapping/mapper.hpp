@@ -5,7 +5,10 @@
 // voxel gaining a point or two per scan is not re-triangulated every frame; finish() meshes every
 // voxel still pending. Results do not depend on the thread count.
 
+#include <filesystem>
+#include <functional>
 #include <memory>
+#include <set>
 
 #include "artemis/core/point_cloud.hpp"
 #include "artemis/core/transform.hpp"
@@ -17,6 +20,7 @@
 #include "artemis/mapping/semantic_fusion.hpp"
 #include "artemis/mapping/semantic_mesh.hpp"
 #include "artemis/mapping/swept_volume.hpp"
+#include "artemis/mapping/tile_store.hpp"
 #include "artemis/mapping/voxel_map.hpp"
 
 namespace artemis {
@@ -34,6 +38,7 @@ struct MapperParams {
   SemanticConstraintParams constraint;
   FreeSpaceParams free_space;
   HoleFillParams holes;  // finish() closes the mesh's small holes
+  TileParams tiles;      // finished tiles leave memory (once setTileDirectory names where to)
   // A voxel is first meshed once it holds first_mesh_points, then re-meshed once its points grew
   // by remesh_growth (and by at least remesh_min_new) since it was last meshed; finish() meshes
   // whatever is still pending, so the final mesh does not depend on these. On KITTI drive 0013
@@ -57,6 +62,7 @@ struct FrameStats {
   std::size_t points = 0;                  // points given
   std::size_t points_kept = 0;             // new mesh vertices
   std::size_t points_in_vehicle_path = 0;  // dropped: inside the vehicle's box at this or an earlier pose
+  std::size_t points_in_finished_tiles = 0;  // dropped: in a tile already written (TileStore)
   std::size_t points_carved = 0;           // kept points removed as free space (rays and vehicle box)
   std::size_t points_tested_free = 0;      // kept points tested against rays for free space
   std::size_t active_voxels = 0;           // voxels that gained points
@@ -64,6 +70,22 @@ struct FrameStats {
   std::size_t semantic_observations = 0;
   std::size_t faces_cut = 0;   // faces the semantic constraint cut (1d)
   ConstraintStats constraint;  // the semantic constraint's patch, solve and times (1d)
+};
+
+// What Mapper::evictTiles did.
+struct EvictionStats {
+  std::size_t tiles = 0;     // tiles written and dropped from memory
+  std::size_t tiles_in_memory = 0;  // the others
+  std::size_t voxels = 0;    // their voxels
+  std::size_t vertices = 0;  // vertices dropped from memory
+  std::size_t faces = 0;     // faces written
+  std::size_t meshed_voxels = 0;  // voxels meshed before writing (pending, as finish() would)
+  double ms = 0.0;
+  double close_ms = 0.0;  // meshing and closing holes before they leave
+  double write_ms = 0.0;  // the tile files
+  double drop_ms = 0.0;   // renumbering what stays
+  // Old vertex id -> new (SemanticMesh::kGone for a vertex that left); empty when nothing left.
+  std::vector<std::uint32_t> new_id;
 };
 
 // A frame's segmented camera view, for semantic fusion.
@@ -97,6 +119,17 @@ class Mapper {
   // constraint to them), then closes the mesh's small holes (params().holes). Returns how many
   // voxels it meshed.
   std::size_t finish();
+  // Tiles (tile_store.hpp): where finished tiles go; until one is named, every tile stays in memory.
+  void setTileDirectory(const std::filesystem::path& directory) { tiles_.setDirectory(directory); }
+  [[nodiscard]] const TileStore& tiles() const { return tiles_; }
+  // Writes the tiles that every position of `keep_near` (the sensor, the poses of the views stage 2
+  // still holds) has left by more than params().tiles.evict_distance_m, after meshing what is
+  // pending in them and closing their small holes, and drops them from memory. Vertices and voxels
+  // are renumbered (see EvictionStats::new_id). Errors name the tile file.
+  Result<EvictionStats> evictTiles(const std::vector<Eigen::Vector3f>& keep_near);
+  // After finish(), when tiles were finished: writes every tile still in memory, so that the tile
+  // files hold the whole map. Returns how many it wrote.
+  Result<std::size_t> writeRemainingTiles();
   // What finish() closed.
   [[nodiscard]] const HoleFillStats& holeFilling() const { return hole_stats_; }
 
@@ -119,8 +152,30 @@ class Mapper {
   // Meshes `keys` (1c), cutting the faces the semantic constraint refuses, then moves their
   // vertices (1d); adds the constraint's figures to `stats` when given.
   std::size_t meshVoxels(const std::vector<VoxelKey>& keys, FrameStats* stats = nullptr);
-  // Adds the faces that close small holes to the voxels holding their centroids.
-  void fillHoles();
+  // The voxels among `keys` with points added since they were meshed, or whose neighbours gained
+  // points since then (their rim, and so the faces along their border, changed); spatially sorted.
+  [[nodiscard]] std::vector<VoxelKey> pendingAmong(const std::vector<VoxelKey>& keys) const;
+  // meshVoxels in chunks.
+  void meshInChunks(const std::vector<VoxelKey>& keys);
+  // Adds the faces that close small holes of `faces` to the voxels holding their centroids, where
+  // `keep` accepts the face (all: nullptr).
+  void fillHoles(const std::vector<Face>& faces, const std::function<bool(const Face&)>& keep = {});
+  // Whether every corner of f lies in one of `tiles` (or, with `outside`, in none of them).
+  [[nodiscard]] bool cornersIn(const Face& f, const std::set<TileKey>& tiles, bool outside = false) const;
+  // Tiles: before `keys` (the voxels of the tiles `far`) leave, meshes what is pending among them and
+  // the voxels in memory just across their border, and closes the small holes there. Returns how
+  // many voxels it meshed.
+  std::size_t closeBeforeEviction(const std::vector<VoxelKey>& keys, const std::set<TileKey>& far);
+  // Tiles: drops the returns that fall in finished tiles (sets drop_); returns how many.
+  std::size_t dropInFinishedTiles(const std::vector<Eigen::Vector3f>& points_W);
+  // Writes `tiles` (their vertices and the faces their voxels own); adds the faces written to `faces`.
+  Status writeTiles(const std::set<TileKey>& tiles, std::size_t& faces);
+  // The tile's contents: its vertices `members` (ascending ids) and the faces of `owners`.
+  [[nodiscard]] TileContents tileContents(const TileKey& tile, const std::vector<std::uint32_t>& members,
+                                          const std::vector<VoxelKey>& owners) const;
+  // Drops the voxels flagged `gone` and their faces, and the vertices of finished tiles that no
+  // face in memory uses; fills `stats`.
+  void dropFinished(const std::vector<std::uint8_t>& gone, EvictionStats& stats);
 
   MapperParams params_;
   VoxelMap map_;
@@ -132,6 +187,7 @@ class Mapper {
   SweptVolume swept_;
   FreeSpaceCarver carver_;
   HoleFillStats hole_stats_;
+  TileStore tiles_;
   std::vector<Eigen::Vector3f> points_W_;
   std::vector<std::uint8_t> drop_;
   struct Arena;

@@ -55,6 +55,14 @@ class SemanticMesh {
   [[nodiscard]] const std::vector<Eigen::Vector3f>& measuredPositions() const { return measured_; }
   void setPosition(std::uint32_t vertex, const Eigen::Vector3f& p_W) { positions_[vertex] = p_W; }
 
+  // A vertex's number for the whole run (the count of vertices added before it): ids change when
+  // tiles of the map leave memory (compactVertices), uids do not, and keep the ids' order. Tile
+  // files name the vertices of other tiles by it.
+  [[nodiscard]] std::uint64_t uid(std::uint32_t v) const { return uids_[v]; }
+  // The voxel index of a vertex whose voxel left memory while the vertex stayed (a face of a voxel
+  // still in memory uses it).
+  static constexpr std::uint32_t kNoVoxel = 0xFFFFFFFFu;
+
   // `voxel_index` numbers the voxel densely (VoxelMap's index): it keys the voxel's semantics.
   std::uint32_t addVertex(const Eigen::Vector3f& p_W, const VoxelKey& voxel, const Eigen::Vector3f& to_sensor,
                           std::uint32_t voxel_index = 0);
@@ -63,6 +71,11 @@ class SemanticMesh {
   // Replaces the faces owned by `voxel` and logs the change.
   void setVoxelFaces(const VoxelKey& voxel, std::vector<Face> faces);
   [[nodiscard]] const std::vector<Face>* voxelFaces(const VoxelKey& voxel) const;
+  // Voxels that own faces (any order).
+  [[nodiscard]] std::vector<VoxelKey> faceOwners() const;
+  // Forgets the faces of `voxel` without logging a change: they left memory for a tile file, and
+  // an observer keeps showing what it was shown.
+  void dropVoxelFaces(const VoxelKey& voxel);
   [[nodiscard]] std::size_t faceCount() const { return face_count_; }
   // Every face, voxel by voxel in key order (deterministic).
   [[nodiscard]] std::vector<Face> faces() const;
@@ -144,6 +157,13 @@ class SemanticMesh {
   };
   [[nodiscard]] Compact compact() const;
 
+  // Tiles leaving memory: keeps vertex v (new_id[v] != kGone) as vertex new_id[v], the kept ones
+  // numbered densely in their old order, and renumbers the faces, every one of whose vertices must
+  // be kept. The voxels are renumbered too, by voxel_new_id (VoxelMap::removeVoxels): a kept
+  // vertex whose voxel is gone gets kNoVoxel, and the evidence of the gone voxels goes with them.
+  static constexpr std::uint32_t kGone = 0xFFFFFFFFu;
+  void compactVertices(const std::vector<std::uint32_t>& new_id, const std::vector<std::uint32_t>& voxel_new_id);
+
   // Checkpoints (mapping/checkpoint.cpp): every vertex, face and weight; load() into an empty mesh
   // with the same voxel prior and stage-one weight (set from the same params). After load() the
   // change log lists every voxel with faces.
@@ -161,6 +181,8 @@ class SemanticMesh {
   std::vector<Eigen::Vector3f> normals_;
   std::vector<VoxelKey> voxels_;
   std::vector<Eigen::Vector3f> views_;
+  std::vector<std::uint64_t> uids_;
+  std::uint64_t next_uid_ = 0;
   std::vector<semantics::ClassId> slots_{semantics::kNoClass};
   // Stage 1's distribution of vertex v, whose cell and voxel weights are given (not both 0).
   void stageOne(std::uint32_t v, float w_cell, float w_voxel, float* out) const;

@@ -86,6 +86,12 @@ class VoxelMap {
   // unused, until the faces that use them are re-meshed). Appends the removed vertex ids to
   // `removed`. The caller re-meshes the voxel and its neighbours.
   void removePoints(std::uint32_t index, const std::vector<std::uint8_t>& remove, std::vector<std::uint32_t>& removed);
+  // Tiles leaving memory: removes the voxels with gone[i] != 0 from the map (their keys, blocks and
+  // points; their vertices are the mesh's to drop), the others keeping their order. Returns each
+  // old index's new one (kNoVertex for a removed voxel). Forgets the last insert() (insertedVertex).
+  std::vector<std::uint32_t> removeVoxels(const std::vector<std::uint8_t>& gone);
+  // Renumbers the vertices the voxels hold after SemanticMesh::compactVertices(new_id).
+  void renumberVertices(const std::vector<std::uint32_t>& new_id);
   // Index of voxel `key` in voxelAt(), or kNoVertex.
   [[nodiscard]] std::uint32_t indexOf(const VoxelKey& key) const;
   // The vertex holding the sub-cell of world point p_W, or kNoVertex where the map has none.
@@ -130,6 +136,8 @@ class VoxelMap {
   // Sub-cell of p_W within voxel `key`, clamped against rounding at the voxel's far faces.
   [[nodiscard]] int subCellOf(const Eigen::Vector3f& p_W, const VoxelKey& key) const;
   void grow();
+  // Fills table_ (of its present size) and the blocks from keys_.
+  void reindex();
   // Fetches into the caches, ahead of insert()'s use: the hash slots, voxels and point arrays of
   // the points a little after point i of the frame.
   void prefetchAhead(std::size_t i) const;

@@ -1,0 +1,161 @@
+#include "artemis/mapping/tile_store.hpp"
+
+#include <fmt/format.h>
+
+#include <cmath>
+#include <cstring>
+#include <stdexcept>
+
+#include "artemis/core/archive.hpp"
+#include "artemis/io/file.hpp"
+#include "artemis/io/read_file.hpp"
+#include "artemis/mapping/voxel_map.hpp"
+
+namespace artemis::mapping {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kMagic = "ARTEMIS tile";
+constexpr std::uint32_t kTileVersion = 1;
+
+std::int32_t floorDiv(std::int32_t a, std::int32_t b) {
+  return a >= 0 ? a / b : -((-a + b - 1) / b);
+}
+
+}  // namespace
+
+Status writeTileFile(const fs::path& path, const TileContents& tile) {
+  ArchiveWriter body;
+  body.value(tile.key);
+  body.array(tile.uids);
+  body.array(tile.positions);
+  body.array(tile.normals);
+  body.array(tile.rgb);
+  body.array(tile.coloured);
+  body.array(tile.classes);
+  body.array(tile.confidence);
+  body.array(tile.slots);
+  body.array(tile.distribution);
+  body.array(tile.faces);
+  body.array(tile.externals);
+  ArchiveWriter head;
+  head.string(kMagic);
+  head.value(kTileVersion);
+  head.value(body.size());
+  head.value(archiveChecksum(body.bytes()));
+  const std::array<std::span<const std::byte>, 2> parts{head.bytes(), body.bytes()};
+  return io::writeFileAtomic(path, parts);
+}
+
+Result<TileContents> readTileFile(const fs::path& path) {
+  auto bytes = io::readFileBytes(path, io::limits::kCheckpoint);
+  if (!bytes) return bytes.status();
+  const std::span<const std::byte> all(reinterpret_cast<const std::byte*>(bytes->data()), bytes->size());
+  ArchiveReader in(all, path.string());
+  TileContents t;
+  try {
+    if (in.string(64) != kMagic) return parseError(path.string() + ": not an ARTEMIS tile file");
+    if (const auto version = in.value<std::uint32_t>(); version != kTileVersion) {
+      return invalidArgument(
+          fmt::format("{}: a tile file of format {}; this version of artemis reads {}", path.string(), version,
+                      kTileVersion));
+    }
+    const auto size = in.value<std::uint64_t>();
+    const auto sum = in.value<std::uint64_t>();
+    const std::span<const std::byte> body = all.subspan(in.position());
+    if (body.size() != size || archiveChecksum(body) != sum) {
+      return parseError(path.string() + ": the tile file is damaged (its size or checksum does not match)");
+    }
+    in.value(t.key);
+    in.array(t.uids);
+    in.array(t.positions);
+    in.array(t.normals);
+    in.array(t.rgb);
+    in.array(t.coloured);
+    in.array(t.classes);
+    in.array(t.confidence);
+    in.array(t.slots);
+    in.array(t.distribution);
+    in.array(t.faces);
+    in.array(t.externals);
+  } catch (const ArchiveError& e) {
+    return parseError(e.what());
+  }
+  const std::size_t n = t.uids.size();
+  bool ok = t.positions.size() == n && t.normals.size() == n && t.rgb.size() == n && t.coloured.size() == n &&
+            t.classes.size() == n && t.confidence.size() == n && t.distribution.size() == n * t.slots.size() &&
+            std::is_sorted(t.uids.begin(), t.uids.end());
+  for (const Face& f : t.faces) {
+    for (const std::uint32_t c : f) {
+      ok = ok && (c < TileContents::kExternal ? c < n : c - TileContents::kExternal < t.externals.size());
+    }
+  }
+  if (!ok) return parseError(path.string() + ": the tile file's arrays do not match (damaged or not a tile)");
+  return t;
+}
+
+TileStore::TileStore(const TileParams& params, double voxel_size_m) : params_(params), voxel_size_m_(voxel_size_m) {
+  const double block_m = VoxelMap::kBlockVoxels * voxel_size_m;
+  if (!(params.edge_m >= block_m) || !std::isfinite(params.edge_m)) {
+    throw std::invalid_argument(fmt::format("tiles: the edge must be at least one block ({} m), not {} m", block_m,
+                                            params.edge_m));
+  }
+  if (!(params.evict_distance_m > 0.0) || !std::isfinite(params.evict_distance_m)) {
+    throw std::invalid_argument(
+        fmt::format("tiles: the eviction distance must be > 0 m, not {} m", params.evict_distance_m));
+  }
+  if (params.check_every < 1) {
+    throw std::invalid_argument(fmt::format("tiles: check_every must be >= 1, not {}", params.check_every));
+  }
+  edge_voxels_ = static_cast<std::int32_t>(std::lround(params.edge_m / block_m)) * VoxelMap::kBlockVoxels;
+}
+
+TileKey TileStore::tileOf(const VoxelKey& voxel) const {
+  return {floorDiv(voxel.x, edge_voxels_), floorDiv(voxel.y, edge_voxels_)};
+}
+
+double TileStore::distance(const TileKey& tile, const Eigen::Vector3f& p_W) const {
+  const double edge = edge_voxels_ * voxel_size_m_;
+  const auto axis = [&](double p, std::int32_t k) {
+    const double lo = k * edge;
+    return p < lo ? lo - p : (p > lo + edge ? p - lo - edge : 0.0);
+  };
+  return std::hypot(axis(p_W.x(), tile.x), axis(p_W.y(), tile.y));
+}
+
+fs::path TileStore::fileOf(const TileKey& tile) const {
+  return directory_ / fmt::format("tile_{}_{}.bin", tile.x, tile.y);
+}
+
+Status TileStore::write(const TileContents& tile) {
+  if (finished_.contains(tile.key)) {
+    return invalidArgument(fmt::format("{}: the tile was already written", fileOf(tile.key).string()));
+  }
+  std::error_code ec;
+  fs::create_directories(directory_, ec);
+  if (ec) return ioError(fmt::format("{}: cannot create the tile folder: {}", directory_.string(), ec.message()));
+  if (Status s = writeTileFile(fileOf(tile.key), tile); !s.isOk()) return s;
+  finished_.insert(tile.key);
+  return Status::ok();
+}
+
+void TileStore::save(ArchiveWriter& out) const {
+  out.section("tiles");
+  out.value(static_cast<std::uint64_t>(finished_.size()));
+  for (const TileKey& k : finished_) out.value(k);
+}
+
+void TileStore::load(ArchiveReader& in) {
+  in.section("tiles");
+  const auto n = in.value<std::uint64_t>();
+  finished_.clear();
+  for (std::uint64_t i = 0; i < n; ++i) {
+    const auto k = in.value<TileKey>();
+    if (!fs::is_regular_file(fileOf(k))) in.fail("the finished tile " + fileOf(k).string() + " is missing");
+    finished_.insert(k);
+  }
+}
+
+}  // namespace artemis::mapping
