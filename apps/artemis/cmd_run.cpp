@@ -117,7 +117,13 @@ int runRun(RunFlags flags, const std::vector<std::string>& args) {
   StopOnInterrupt interrupt;
   flags.params.stop_requested = interrupt.flag();
   auto report = pipeline::runPipeline(**dataset, flags.params, flags.out, config,
-                                      [&](std::size_t done, std::size_t total) { progress.update(done, total); });
+                                      [&](std::size_t done, std::size_t total, const pipeline::RunReport& r) {
+                                        if (flags.params.mapper.tiles.enabled) {
+                                          progress.setDetail(fmt::format("tiles: {} in memory, {} written",
+                                                                         r.tiles_in_memory, r.tiles_finished));
+                                        }
+                                        progress.update(done, total);
+                                      });
   progress.finish();
   if (!report) {
     if (interrupt.requested()) {

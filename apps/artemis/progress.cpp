@@ -45,6 +45,7 @@ void ProgressLine::print(std::size_t done, std::size_t total, bool final_line) {
   std::string line = fmt::format("{} {}/{} ({:.0f}%) {:.1f} {}/s, {:.1f} s", label_, done, total, pct, rate, unit_, t);
   // Memory beside speed: a run that grows without bound shows it long before the machine runs out.
   if (const double mb = pipeline::residentMb(); mb > 0.0) line += fmt::format(", {:.0f} MB", mb);
+  if (!detail_.empty()) line += ", " + detail_;
   if (tty_) {
     fmt::print(stderr, "\r\033[K{}{}", line, final_line ? "\n" : "");
   } else {

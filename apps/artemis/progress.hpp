@@ -5,6 +5,7 @@
 
 #include <cstddef>
 #include <string>
+#include <utility>
 
 #include "artemis/core/timer.hpp"
 
@@ -18,6 +19,8 @@ class ProgressLine {
   ProgressLine& operator=(const ProgressLine&) = delete;
 
   void update(std::size_t done, std::size_t total);
+  // Said after the memory ("tiles: 12 in memory, 40 written"); empty: nothing.
+  void setDetail(std::string detail) { detail_ = std::move(detail); }
   void finish();
 
  private:
@@ -25,6 +28,7 @@ class ProgressLine {
 
   std::string label_;
   std::string unit_;
+  std::string detail_;
   Stopwatch clock_;
   double last_print_s_ = -1.0;
   bool tty_ = false;

@@ -106,6 +106,11 @@ nlohmann::ordered_json configJson(const RunFlags& f, const std::string& dataset_
         {"max_loop_edges", m.holes.max_loop_edges},
         {"max_plane_distance_m", m.holes.max_plane_distance_m},
         {"min_normal_agreement", m.holes.min_normal_agreement}}},
+      {"tiles",
+       {{"on", m.tiles.enabled},
+        {"edge_m", m.tiles.edge_m},
+        {"evict_distance_m", m.tiles.evict_distance_m},
+        {"check_every", m.tiles.check_every}}},
       {"vehicle_box_m",
        m.vehicle_box_L.isEmpty()
            ? nlohmann::json(nullptr)
@@ -121,6 +126,7 @@ nlohmann::ordered_json configJson(const RunFlags& f, const std::string& dataset_
         {"holdout", f.params.texture_holdout},
         {"delay_frames", f.params.texture_delay},
         {"revisit_frames", f.params.texture_revisit},
+        {"range_m", m.refinement.max_range_m},
         {"reliability", m.refinement.reliability},
         {"sigma_photo", m.refinement.sigma_photo},
         {"sigma_geom", m.refinement.sigma_geom},

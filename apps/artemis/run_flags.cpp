@@ -55,6 +55,24 @@ void addMapperFlags(CLI::App& cmd, RunFlags& f) {
                  "Hole filling: close holes whose outline has at most this many edges")
       ->capture_default_str()
       ->check(CLI::Range(3, 64));
+  cmd.add_flag_callback(
+      "--no-tiles", [&tiles = m.tiles] { tiles.enabled = false; },
+      "Keep the whole map in memory (a long drive's memory then grows with the drive)");
+  cmd.add_option("--tile-edge", m.tiles.edge_m,
+                 "Tiles: the map is cut into square columns of this edge, rounded to whole 16-voxel blocks (m)")
+      ->capture_default_str()
+      ->check(within(0.8, 10000.0));
+  cmd.add_option("--evict-distance", m.tiles.evict_distance_m,
+                 "Tiles: a tile this far from the sensor and from every view still to be textured is written to "
+                 "OUT/tiles and leaves memory; returns that later fall in it are dropped (m; more than "
+                 "--texture-range)")
+      ->capture_default_str()
+      ->check(within(1.0, 1e6));
+  cmd.add_option("--evict-every", m.tiles.check_every,
+                 "Tiles: look for tiles to write and drop after every N frames (finishing tiles costs a few hundred "
+                 "ms on 2 cores; rare looks keep it out of most frames)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 1000000));
   cmd.add_option("--vehicle-box", f.vehicle_box,
                  "The vehicle's body in the LiDAR frame: returns inside it at the current or an earlier pose "
                  "(a car following in the same lane) are dropped. kitti (KITTI's car and the simulator's), off, "
@@ -123,6 +141,10 @@ void addTextureFlags(CLI::App& cmd, RunFlags& f) {
                  "Leave every N-th frame's image out of texturing (for artemis eval texture); 0: none")
       ->capture_default_str()
       ->check(within(0, 1000000));
+  cmd.add_option("--texture-range", f.params.mapper.refinement.max_range_m,
+                 "Stage 2: surface farther than this from the camera is not textured or refined (m)")
+      ->capture_default_str()
+      ->check(within(1.0, 130.0));
   cmd.add_option("--texture-delay", f.params.texture_delay,
                  "Refine each frame's image this many frames after its scan was mapped, once later scans have "
                  "meshed the ground and walls in front of the camera (0: at once)")

@@ -38,6 +38,14 @@ void printRunSummary(const RunFlags& flags, const pipeline::RunReport& report_va
     fmt::print("free space per frame (median / p95 ms) {:.1f} / {:.1f}; {} points seen through and removed\n",
                carve.median_ms, carve.p95_ms, report->points_carved);
   }
+  if (report->tiles_written > 0) {
+    fmt::print("{} tiles written to OUT/tiles ({} left memory during the run); mesh.ply stitched from them\n",
+               report->tiles_written, report->tiles_finished);
+  }
+  if (report->points_in_finished_tiles > 0) {
+    fmt::print("{} returns fell in tiles already written and were dropped (--evict-distance)\n",
+               report->points_in_finished_tiles);
+  }
   if (report->holes_filled > 0) {
     fmt::print("{} small holes in the final mesh closed with {} faces\n", report->holes_filled, report->hole_faces);
   }

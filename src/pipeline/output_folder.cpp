@@ -68,7 +68,8 @@ Status finishMove(const fs::path& folder, const fs::path& staging) {
 const std::vector<std::string>& runOutputNames() {
   static const std::vector<std::string> names = {"config.json",    "mesh.ply",       "mesh_classes.ply",
                                                  "semantics.json", "trajectory.txt", "registration.json",
-                                                 "timing.json",    "checkpoint.bin", "checkpoint.json"};
+                                                 "timing.json",    "checkpoint.bin", "checkpoint.json",
+                                                 "tiles"};
   return names;
 }
 

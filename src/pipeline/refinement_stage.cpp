@@ -26,6 +26,23 @@ RefinementStage::RefinementStage(mapping::Mapper& mapper, const RunParams& param
       report_(report),
       revisits_(params.texture && params.texture_revisit > params.texture_delay) {}
 
+std::vector<Eigen::Vector3f> RefinementStage::viewPositions() const {
+  std::vector<Eigen::Vector3f> out;
+  for (const WaitingView& w : waiting_) out.push_back(w.T_W_L.translation().cast<float>());
+  for (const KeptView& k : kept_) out.push_back(k.memory.T_W_C.translation().cast<float>());
+  return out;
+}
+
+void RefinementStage::renumberVertices(const std::vector<std::uint32_t>& new_id) {
+  for (KeptView& k : kept_) {
+    // Vertices below the old count that stayed are the vertices below the new one (ids keep
+    // their order): the new count is one past the last of them.
+    std::uint32_t v = std::min<std::uint32_t>(k.memory.vertices, static_cast<std::uint32_t>(new_id.size()));
+    while (v > 0 && new_id[v - 1] == mapping::SemanticMesh::kGone) --v;
+    k.memory.vertices = v == 0 ? 0 : new_id[v - 1] + 1;
+  }
+}
+
 WaitingView* RefinementStage::waitingView(std::size_t i) {
   const auto view = std::find_if(waiting_.begin(), waiting_.end(), [i](const WaitingView& v) { return v.i == i; });
   return view == waiting_.end() ? nullptr : &*view;

@@ -50,6 +50,12 @@ class RefinementStage {
   // After the final meshing: every view still waiting or kept.
   std::optional<mapping::RefinementStats> flush();
 
+  // Where the views it holds were taken (the LiDAR's and the cameras' origins): tiles near them
+  // stay in memory.
+  [[nodiscard]] std::vector<Eigen::Vector3f> viewPositions() const;
+  // After tiles left memory (Mapper::evictTiles): the kept views' vertex counts, renumbered.
+  void renumberVertices(const std::vector<std::uint32_t>& new_id);
+
   // Checkpoints (stage_checkpoint.cpp): the waiting views whole (scan, image, masks); the kept
   // views' reference depths, their images read again from `dataset` on load.
   void save(ArchiveWriter& out) const;

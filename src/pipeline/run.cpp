@@ -20,6 +20,7 @@
 #include "register_step.hpp"
 #include "run_outputs.hpp"
 #include "semantic_step.hpp"
+#include "tile_step.hpp"
 
 namespace artemis::pipeline {
 
@@ -71,8 +72,9 @@ void logHoleFilling(const mapping::HoleFillStats& holes) {
 class Run {
  public:
   // `first`: the range frame reading starts at (a resumed run's; load() its state before frame()).
+  // `out`: the run's folder (its tiles go there while it runs); `resumed`: it goes on from a checkpoint.
   Run(const datasets::Dataset& dataset, const RunParams& params, bool recording_poses, registration::Odometry* odometry,
-      RunReport& report, std::size_t first)
+      RunReport& report, std::size_t first, const fs::path& out, bool resumed)
       : dataset_(dataset),
         params_(params),
         report_(report),
@@ -81,12 +83,18 @@ class Run {
         poses_(dataset, recording_poses, odometry),
         stage2_(mapper_, params, report),
         semantics_(params, mapper_, report),
+        tiles_(mapper_, stage2_, report, out, resumed),
         reader_(dataset, semantics_.offline(), first) {}
 
-  // The range's i-th frame through every stage; false when it could not be read (logged, counted).
+  // The range's i-th frame through every stage, the tiles it left behind out of memory last; false
+  // when it could not be read (logged, counted) or the tiles could not be written (tileError()).
   bool frame(std::size_t i);
+  [[nodiscard]] const Status& tileError() const { return tile_error_; }
   // The final meshing, then the views still waiting.
   void finish();
+  // After finish(): when tiles left memory, the rest are written and the meshes stitched into
+  // `staging` (true), else nothing is done (false).
+  Result<bool> finishTiles(const fs::path& staging);
   // Checkpoints: every stage's state between two frames (in real time, after the segmenter's
   // frame in flight was fused), and back. The odometry is saved by its owner.
   void save(ArchiveWriter& out);
@@ -112,8 +120,10 @@ class Run {
   PoseTrack poses_;
   RefinementStage stage2_;
   SemanticStep semantics_;
+  TileStep tiles_;
   FrameReader reader_;  // last: stopped first, while what it feeds still stands
   bool warned_vehicle_box_ = false;
+  Status tile_error_ = Status::ok();
 };
 
 bool Run::frame(std::size_t i) {
@@ -142,7 +152,7 @@ bool Run::frame(std::size_t i) {
   semantics_.acceptArrived(stage2_);
   // The observer hears of every view stage 2 looked at in this frame.
   const std::optional<mapping::RefinementStats> refined = stage2_.runDue(i);
-  report_.times.add("total", frame_clock.elapsedMs() - semantics.wait_ms);
+  const double frame_ms = frame_clock.elapsedMs() - semantics.wait_ms;
   poses_.mapped(i, T_W_L, frame_stamp_s);
   ++report_.frames;
   logFrame(frame_index, stats);
@@ -150,7 +160,12 @@ bool Run::frame(std::size_t i) {
     params_.observer(
         {mapper_, i + 1, dataset_.size(), frame_index, T_W_L, refined ? &*refined : nullptr, report_.times, false});
   }
-  return true;
+  // After the observer, which was handed this frame's voxel indices: eviction renumbers them. Its
+  // time is the frame's.
+  Stopwatch evict_clock;
+  tile_error_ = tiles_.afterFrame(i, T_W_L);
+  report_.times.add("total", frame_ms + evict_clock.elapsedMs());
+  return tile_error_.isOk();
 }
 
 void Run::recordMapping(const mapping::FrameStats& stats, double read_ms, std::size_t frame_index) {
@@ -163,6 +178,7 @@ void Run::recordMapping(const mapping::FrameStats& stats, double read_ms, std::s
   report_.faces_cut += stats.faces_cut;
   report_.points_in_vehicle_path += stats.points_in_vehicle_path;
   report_.points_carved += stats.points_carved;
+  report_.points_in_finished_tiles += stats.points_in_finished_tiles;
   if (stats.points > 0 && stats.points_in_vehicle_path * 20 > stats.points && !warned_vehicle_box_) {
     log::warn(
         "frame {}: {} of {} returns lie inside the vehicle's box at this or an earlier pose and were dropped; "
@@ -210,6 +226,13 @@ void Run::finish() {
   warnAboutRefusedPoints();
   report_.vertices = mapper_.mesh().vertexCount();
   report_.faces = mapper_.mesh().faceCount();
+}
+
+Result<bool> Run::finishTiles(const fs::path& staging) {
+  const SemanticRunParams& sem = params_.semantics;
+  const bool semantic = sem.segmenter != nullptr;
+  const SemanticPlyOptions ply{sem.vocabulary, params_.mapper.semantics.confidence_lambda, sem.write_distribution};
+  return tiles_.finish(staging, semantic ? &ply : nullptr, semantic);
 }
 
 void Run::save(ArchiveWriter& out) {
@@ -322,7 +345,7 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
   if (resumed) {
     if (Status s = restoreBrush(*resumed, params.semantics.brush, out); !s.isOk()) return s;
   }
-  Run run(dataset, params, recording_poses, odometry.get(), report, first);
+  Run run(dataset, params, recording_poses, odometry.get(), report, first, out, resumed.has_value());
   if (resumed) {
     if (Status s = loadCheckpoint(*resumed, run, odometry.get(), out); !s.isOk()) return s;
     resumed.reset();
@@ -332,7 +355,8 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
   }
   const auto every = static_cast<std::size_t>(std::max(params.checkpoint_every, 0));
   for (std::size_t i = first; i < total; ++i) {
-    if (run.frame(i) && progress) progress(i + 1, total);
+    if (run.frame(i) && progress) progress(i + 1, total, report);
+    if (!run.tileError().isOk()) return run.tileError();
     const bool stop = params.stop_requested != nullptr && params.stop_requested->load() && i + 1 < total;
     if ((stop || (every > 0 && (i + 1) % every == 0 && i + 1 < total)) && report.frames > 0) {
       if (Status s = saveCheckpoint(run, i + 1, odometry.get(), out, config_json, report); !s.isOk()) return s;
@@ -346,8 +370,10 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
   }
   if (report.frames == 0) return invalidArgument("no frame could be read; nothing written");
   run.finish();
-  if (Status s =
-          writeRunOutputs(run.mapper(), params, run.trajectory(), odometry != nullptr, folder->staging(), report);
+  auto tiled = run.finishTiles(folder->staging());
+  if (!tiled) return tiled.status();
+  if (Status s = writeRunOutputs(run.mapper(), params, run.trajectory(), odometry != nullptr, folder->staging(),
+                                 report, *tiled);
       !s.isOk()) {
     return s;
   }

@@ -109,7 +109,7 @@ std::string timingJson(const RunReport& report) {
   for (const std::string& stage :
        {std::string("read"), std::string("register"), std::string("segment"), std::string("segment_wait"),
         std::string("insert"), std::string("carve"), std::string("fuse"), std::string("mesh"), std::string("constrain"),
-        std::string("refine"), std::string("revisit")}) {
+        std::string("refine"), std::string("revisit"), std::string("evict")}) {
     if (report.times.samples(stage).empty()) continue;
     const StageSummary s = report.times.summary(stage);
     stages[stage] = {{"median_ms", s.median_ms}, {"p95_ms", s.p95_ms}, {"max_ms", s.max_ms}};
@@ -124,6 +124,11 @@ std::string timingJson(const RunReport& report) {
   j["points_in_vehicle_path"] = report.points_in_vehicle_path;
   j["points_carved"] = report.points_carved;
   j["holes_filled"] = report.holes_filled;
+  j["tiles"] = {{"finished_during_run", report.tiles_finished},
+                {"in_memory_at_last_look", report.tiles_in_memory},
+                {"files", report.tiles_written},
+                {"points_in_finished_tiles", report.points_in_finished_tiles},
+                {"dangling_faces", report.dangling_faces}};
   j["checkpoints"] = {{"written", report.checkpoints},
                       {"last_mb", report.checkpoint_mb},
                       {"max_ms", report.checkpoint_max_ms},
@@ -190,19 +195,23 @@ std::string semanticsJson(const RunReport& report, const RunParams& params) {
   return j.dump(1) + "\n";
 }
 Status writeRunOutputs(const mapping::Mapper& mapper, const RunParams& params, const std::string& trajectory,
-                       bool registered, const fs::path& out, RunReport& report) {
+                       bool registered, const fs::path& out, RunReport& report, bool meshes_written) {
   const SemanticRunParams& sem = params.semantics;
   const bool semantic = sem.segmenter != nullptr;
   SemanticPlyOptions ply_semantics{sem.vocabulary, params.mapper.semantics.confidence_lambda, sem.write_distribution};
-  if (Status s = writeMeshPly(mapper.mesh(), out / "mesh.ply", semantic ? &ply_semantics : nullptr); !s.isOk()) {
-    return s;
-  }
-  if (semantic) {
-    if (Status s = writeClassColouredPly(mapper.mesh(), *sem.vocabulary, out / "mesh_classes.ply"); !s.isOk()) {
+  if (!meshes_written) {
+    if (Status s = writeMeshPly(mapper.mesh(), out / "mesh.ply", semantic ? &ply_semantics : nullptr); !s.isOk()) {
       return s;
     }
-    for (std::uint32_t v = 0; v < mapper.mesh().vertexCount(); ++v) {
-      if (mapper.mesh().vertexClass(v) != semantics::kNoClass) ++report.vertices_labelled;
+  }
+  if (semantic) {
+    if (!meshes_written) {
+      if (Status s = writeClassColouredPly(mapper.mesh(), *sem.vocabulary, out / "mesh_classes.ply"); !s.isOk()) {
+        return s;
+      }
+      for (std::uint32_t v = 0; v < mapper.mesh().vertexCount(); ++v) {
+        if (mapper.mesh().vertexClass(v) != semantics::kNoClass) ++report.vertices_labelled;
+      }
     }
     if (Status s = writeText(out / "semantics.json", semanticsJson(report, params)); !s.isOk()) return s;
     if (report.frames_unobserved > 0) {

@@ -18,7 +18,10 @@ Status writeText(const std::filesystem::path& path, const std::string& text);
 // mesh_classes.ply and semantics.json (report.vertices_labelled is counted first); trajectory.txt
 // (`trajectory`: one row-major 3x4 line a frame); with pose refinement (`registered`)
 // registration.json; timing.json (report.peak_rss_mb is taken first). Stops at the first error.
+// `meshes_written`: mesh.ply and mesh_classes.ply are already there (stitched from tiles, with
+// report.vertices_labelled).
 Status writeRunOutputs(const mapping::Mapper& mapper, const RunParams& params, const std::string& trajectory,
-                       bool registered, const std::filesystem::path& out, RunReport& report);
+                       bool registered, const std::filesystem::path& out, RunReport& report,
+                       bool meshes_written = false);
 
 }  // namespace artemis::pipeline

@@ -46,8 +46,19 @@ constexpr int kFrames = 8;
 constexpr int kFrames = 14;
 #endif
 
+// Tiles leave memory early (15 m behind the drive, texturing within 12 m), so that the checkpoint
+// holds a map of which some tiles are already written, and mesh.ply is stitched from tile files.
+const std::vector<std::string> kTileFlags = {"--evict-distance", "15",  "--texture-range", "12",
+                                             "--tile-edge",      "6.4", "--evict-every",   "3"};
+
+std::string joined(const std::vector<std::string>& args) {
+  std::string s;
+  for (const std::string& a : args) s += " " + a;
+  return s;
+}
+
 // A short simulated street with moving traffic, and its uninterrupted run (with semantics, texture,
-// free space: every stage that carries state from frame to frame).
+// free space, tiles: every stage that carries state from frame to frame).
 class CliResume : public ::testing::Test {
  protected:
   static void SetUpTestSuite() {
@@ -59,7 +70,7 @@ class CliResume : public ::testing::Test {
       return;
     }
     const auto run = test::runCli("run " + street().string() + " --out " + (*tmp_ / "whole").string() +
-                                  " --checkpoint-every 0 --query cars --segmenter sim");
+                                  " --checkpoint-every 0 --query cars --segmenter sim" + joined(kTileFlags));
     if (run.exit_code != 0) setup_error_ = "artemis run failed: " + run.err;
   }
   void SetUp() override { ASSERT_TRUE(setup_error_.empty()) << setup_error_; }
@@ -72,8 +83,10 @@ class CliResume : public ::testing::Test {
 
   // Starts the run into `out`, checkpointing every 2 frames, and waits for its first checkpoint.
   static pid_t startRun(const fs::path& out) {
-    const pid_t pid = test::spawnCli({"run", street().string(), "--out", out.string(), "--checkpoint-every", "2",
-                                      "--query", "cars", "--segmenter", "sim"});
+    std::vector<std::string> args{"run",     street().string(), "--out",      out.string(), "--checkpoint-every",
+                                  "2",       "--query",         "cars",       "--segmenter", "sim"};
+    args.insert(args.end(), kTileFlags.begin(), kTileFlags.end());
+    const pid_t pid = test::spawnCli(args);
     const auto give_up = std::chrono::steady_clock::now() + std::chrono::minutes(5);
     while (!fs::exists(out / "checkpoint.bin") && std::chrono::steady_clock::now() < give_up) {
       std::this_thread::sleep_for(std::chrono::milliseconds(5));
@@ -86,7 +99,11 @@ class CliResume : public ::testing::Test {
       ASSERT_TRUE(fs::exists(out / name)) << name;
       EXPECT_TRUE(test::slurp(out / name) == test::slurp(whole() / name)) << name << " differs";
     }
-    // The finished run leaves no checkpoint, staging folder or temporary file behind.
+    // The map went to tile files as the drive went on.
+    EXPECT_GT(test::readJson(out / "timing.json")["tiles"]["finished_during_run"].get<int>(), 0);
+    EXPECT_TRUE(fs::is_directory(out / "tiles"));
+    // The finished run leaves no checkpoint, staging folder, running tile folder or temporary file
+    // behind.
     EXPECT_FALSE(fs::exists(out / "checkpoint.bin"));
     EXPECT_FALSE(fs::exists(out / "checkpoint.json"));
     EXPECT_TRUE(test::hiddenEntries(out).empty());

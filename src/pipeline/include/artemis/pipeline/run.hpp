@@ -135,6 +135,11 @@ struct RunReport {
   std::size_t faces_cut = 0;               // by the semantic constraint, over the frames (not the final meshing)
   std::size_t points_in_vehicle_path = 0;  // returns dropped inside the vehicle's box (MapperParams)
   std::size_t points_carved = 0;           // kept points removed as free space (FreeSpaceCarver)
+  std::size_t points_in_finished_tiles = 0;  // returns dropped: they fell in a tile already written
+  std::size_t tiles_finished = 0;            // tiles written and dropped from memory during the run
+  std::size_t tiles_in_memory = 0;           // at the last look for finished tiles
+  std::size_t tiles_written = 0;             // tile files at the end (the finished and the rest)
+  std::size_t dangling_faces = 0;            // stitching the tiles: faces whose corner no tile held
   std::size_t holes_filled = 0;            // small holes the final mesh closed (holeFillingFaces)
   std::size_t hole_faces = 0;              // ... with this many faces
   double peak_rss_mb = 0.0;
@@ -162,7 +167,8 @@ struct RunReport {
   std::size_t resumed_at = 0;
 };
 
-using ProgressFn = std::function<void(std::size_t done, std::size_t total)>;
+// After each frame mapped: frames done of the range, and the report so far (tiles in memory...).
+using ProgressFn = std::function<void(std::size_t done, std::size_t total, const RunReport& report)>;
 
 // Runs the mapper over every frame of `dataset` and writes the outputs into `out`.
 Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& params, const std::filesystem::path& out,

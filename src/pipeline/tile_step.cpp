@@ -1,0 +1,65 @@
+#include "tile_step.hpp"
+
+#include <fmt/format.h>
+
+#include "artemis/core/log.hpp"
+#include "tiled_mesh.hpp"
+
+namespace artemis::pipeline {
+
+namespace fs = std::filesystem;
+
+TileStep::TileStep(mapping::Mapper& mapper, RefinementStage& stage2, RunReport& report, const fs::path& out,
+                   bool resumed)
+    : mapper_(mapper), stage2_(stage2), report_(report), folder_(out / kRunningTilesFolder) {
+  if (!mapper.params().tiles.enabled) return;
+  if (!resumed) {
+    std::error_code ec;
+    fs::remove_all(folder_, ec);  // an earlier killed run's; what is missing is written again
+  }
+  mapper_.setTileDirectory(folder_);
+}
+
+Status TileStep::afterFrame(std::size_t i, const Isometry3d& T_W_L) {
+  const mapping::TileParams& p = mapper_.params().tiles;
+  if (!p.enabled || (i + 1) % static_cast<std::size_t>(p.check_every) != 0) return Status::ok();
+  std::vector<Eigen::Vector3f> keep_near = stage2_.viewPositions();
+  keep_near.push_back(T_W_L.translation().cast<float>());
+  auto evicted = mapper_.evictTiles(keep_near);
+  if (!evicted) return evicted.status();
+  report_.tiles_in_memory = evicted->tiles_in_memory;
+  if (evicted->tiles == 0) return Status::ok();
+  stage2_.renumberVertices(evicted->new_id);
+  report_.tiles_finished += evicted->tiles;
+  report_.times.add("evict", evicted->ms);
+  log::debug(
+      "tiles: {} finished ({} voxels, {} vertices left memory, {} faces written, {} voxels meshed), {} in memory; "
+      "{:.1f} ms (closing {:.1f}, writing {:.1f}, dropping {:.1f})",
+      evicted->tiles, evicted->voxels, evicted->vertices, evicted->faces, evicted->meshed_voxels,
+      evicted->tiles_in_memory, evicted->ms, evicted->close_ms, evicted->write_ms, evicted->drop_ms);
+  return Status::ok();
+}
+
+Result<bool> TileStep::finish(const fs::path& staging, const SemanticPlyOptions* semantics, bool classes) {
+  if (!mapper_.tiles().anyFinished()) return false;
+  auto rest = mapper_.writeRemainingTiles();
+  if (!rest) return rest.status();
+  auto stitched = writeTiledMesh(mapper_.tiles(), staging / "mesh.ply", semantics,
+                                 classes ? staging / "mesh_classes.ply" : fs::path());
+  if (!stitched) return stitched.status();
+  report_.tiles_written = stitched->tiles;
+  report_.vertices = stitched->vertices;
+  report_.faces = stitched->faces;
+  report_.dangling_faces = stitched->dangling_faces;
+  report_.vertices_labelled = stitched->vertices_labelled;
+  if (stitched->dangling_faces > 0) {
+    log::warn("tiles: {} faces across a tile border named a vertex no tile held and were left out",
+              stitched->dangling_faces);
+  }
+  std::error_code ec;
+  fs::rename(folder_, staging / "tiles", ec);
+  if (ec) return ioError(fmt::format("{}: cannot move the tiles into the outputs: {}", folder_.string(), ec.message()));
+  return true;
+}
+
+}  // namespace artemis::pipeline
