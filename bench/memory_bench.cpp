@@ -6,13 +6,14 @@
 // frame the process's resident memory is sampled. Prints the resident memory at frames 1,000 and
 // the last, the peak, the per-frame time (median and p95) of the first 200 frames against the whole
 // run (with and without the time spent waiting for the simulator, which shares the cores), and
-// writes OUT/memory.csv (frame, resident MB, each stage's time in ms) and, where
-// /usr/bin/python3 has matplotlib, OUT/memory.png (bench/plot_memory.py).
+// writes OUT/memory.csv (frame, resident MB, tiles in memory and written, each stage's time in ms)
+// and, where /usr/bin/python3 has matplotlib, OUT/memory.png (bench/plot_memory.py).
 //
 //   build/bench/memory_bench [--frames N] [--speed MPS] [--traffic none|street|drive0013] [--out DIR]
 //
-// Takes about 0.2 s a frame on 2 cores (the simulator's camera is most of it), plus the run's
-// checkpoints and final meshing: 3,000 frames 13-15 minutes and 8-8.5 GB at the peak.
+// Takes about 0.2 s a frame on 2 cores (the simulator's camera is most of it): 3,000 frames about
+// 11 minutes, 1.5 GB at the peak (1 GB of it the simulator's street) with the map's tiles leaving
+// memory as the drive goes (the default).
 #include <fmt/format.h>
 
 #include <cstdio>
@@ -68,9 +69,12 @@ bool parse(int argc, char** argv, Options& o) {
 struct Sample {
   std::size_t frame = 0;
   double rss_mb = 0.0;
+  std::size_t tiles_in_memory = 0;  // at the run's last look for finished tiles
+  std::size_t tiles_written = 0;    // so far
 };
 
-// `sim_mb`: the resident memory before the run (mostly the simulator's street), on every row.
+// `sim_mb`: the resident memory before the run (mostly the simulator's street), on every row; the
+// tiles in memory at the run's last look and written so far.
 // Then one column per stage the run timed a frame at a time (`total` and `read` among them; the
 // stages that time views rather than frames, such as `revisit`, are left out).
 bool writeCsv(const fs::path& path, const std::vector<Sample>& samples, const pipeline::StageTimes& times,
@@ -80,11 +84,12 @@ bool writeCsv(const fs::path& path, const std::vector<Sample>& samples, const pi
     if (times.samples(stage).size() == samples.size()) stages.push_back(stage);
   }
   std::ofstream csv(path);
-  csv << "frame,rss_mb,sim_mb";
+  csv << "frame,rss_mb,sim_mb,tiles_in_memory,tiles_written";
   for (const std::string& stage : stages) csv << ',' << stage << "_ms";
   csv << '\n';
   for (std::size_t i = 0; i < samples.size(); ++i) {
-    csv << fmt::format("{},{:.1f},{:.1f}", samples[i].frame, samples[i].rss_mb, sim_mb);
+    csv << fmt::format("{},{:.1f},{:.1f},{},{}", samples[i].frame, samples[i].rss_mb, sim_mb,
+                       samples[i].tiles_in_memory, samples[i].tiles_written);
     for (const std::string& stage : stages) csv << fmt::format(",{:.2f}", times.samples(stage)[i]);
     csv << '\n';
   }
@@ -163,8 +168,8 @@ int main(int argc, char** argv) {
 
   std::vector<Sample> samples;
   samples.reserve(static_cast<std::size_t>(o.frames));
-  const auto progress = [&](std::size_t done, std::size_t total) {
-    samples.push_back({done, pipeline::residentMb()});
+  const auto progress = [&](std::size_t done, std::size_t total, const pipeline::RunReport& r) {
+    samples.push_back({done, pipeline::residentMb(), r.tiles_in_memory, r.tiles_finished});
     if (done % 100 == 0 || done == total) {
       fmt::print(stderr, "frame {} of {}: {:.0f} MB resident\n", done, total, samples.back().rss_mb);
     }
