@@ -43,49 +43,71 @@ std::size_t Mapper::dropInFinishedTiles(const std::vector<Eigen::Vector3f>& poin
   return dropped;
 }
 
-Result<EvictionStats> Mapper::evictTiles(const std::vector<Eigen::Vector3f>& keep_near) {
-  EvictionStats stats;
-  if (!tiles_.enabled()) return stats;
-  Stopwatch clock;
-  // The tiles of the map's blocks, near or far from every position.
+std::set<TileKey> Mapper::leftTiles(const std::vector<Eigen::Vector3f>& keep_near, std::size_t* in_memory) const {
   std::set<TileKey> far;
   std::set<TileKey> near;
-  const double reach = params_.tiles.evict_distance_m;
-  for (const VoxelMap::Block& b : map_.blocks()) {
-    const TileKey t = tiles_.tileOf(blockCorner(b.key));
-    if (far.contains(t) || near.contains(t)) continue;
-    const bool left = std::all_of(keep_near.begin(), keep_near.end(),
-                                  [&](const Eigen::Vector3f& p) { return tiles_.distance(t, p) > reach; });
-    (left ? far : near).insert(t);
+  if (tiles_.enabled()) {
+    const double reach = params_.tiles.evict_distance_m;
+    for (const VoxelMap::Block& b : map_.blocks()) {
+      const TileKey t = tiles_.tileOf(blockCorner(b.key));
+      if (far.contains(t) || near.contains(t)) continue;
+      const bool left = std::all_of(keep_near.begin(), keep_near.end(),
+                                    [&](const Eigen::Vector3f& p) { return tiles_.distance(t, p) > reach; });
+      (left ? far : near).insert(t);
+    }
   }
-  stats.tiles_in_memory = near.size();
-  if (far.empty()) return stats;
-  std::vector<std::uint8_t> gone(map_.size(), 0);
+  if (in_memory != nullptr) *in_memory = far.size() + near.size();
+  return far;
+}
+
+std::vector<VoxelKey> Mapper::voxelsOf(const std::set<TileKey>& tiles, std::vector<std::uint8_t>* gone) const {
   std::vector<VoxelKey> keys;
+  if (gone != nullptr) gone->assign(map_.size(), 0);
   for (const VoxelMap::Block& b : map_.blocks()) {
-    if (!far.contains(tiles_.tileOf(blockCorner(b.key)))) continue;
+    if (!tiles.contains(tiles_.tileOf(blockCorner(b.key)))) continue;
     for (const std::uint32_t index : b.voxels) {
-      gone[index] = 1;
+      if (gone != nullptr) (*gone)[index] = 1;
       keys.push_back(map_.keyAt(index));
     }
   }
   std::sort(keys.begin(), keys.end());
-  Stopwatch step;
-  stats.meshed_voxels = closeBeforeEviction(keys, far);
-  stats.close_ms = step.elapsedMs();
-  step.reset();
+  return keys;
+}
+
+Result<EvictionStats> Mapper::evictTiles(const std::vector<Eigen::Vector3f>& keep_near) {
+  std::size_t in_memory = 0;
+  const std::set<TileKey> far = leftTiles(keep_near, &in_memory);
+  Stopwatch clock;
+  const std::size_t meshed = closeTiles(far);
+  const double close_ms = clock.elapsedMs();
+  auto stats = dropTiles(far);
+  if (!stats) return stats;
+  stats->tiles_in_memory = in_memory - far.size();
+  stats->meshed_voxels = meshed;
+  stats->close_ms = close_ms;
+  stats->ms += close_ms;
+  return stats;
+}
+
+Result<EvictionStats> Mapper::dropTiles(const std::set<TileKey>& far) {
+  EvictionStats stats;
+  if (far.empty()) return stats;
+  Stopwatch clock;
+  std::vector<std::uint8_t> gone;
+  stats.voxels = voxelsOf(far, &gone).size();
   if (Status s = writeTiles(far, stats.faces); !s.isOk()) return s;
-  stats.write_ms = step.elapsedMs();
-  step.reset();
+  stats.write_ms = clock.elapsedMs();
+  Stopwatch step;
   stats.tiles = far.size();
-  stats.voxels = keys.size();
   dropFinished(gone, stats);
   stats.drop_ms = step.elapsedMs();
   stats.ms = clock.elapsedMs();
   return stats;
 }
 
-std::size_t Mapper::closeBeforeEviction(const std::vector<VoxelKey>& keys, const std::set<TileKey>& far) {
+std::size_t Mapper::closeTiles(const std::set<TileKey>& far) {
+  if (far.empty()) return 0;
+  const std::vector<VoxelKey> keys = voxelsOf(far, nullptr);
   // The voxels in memory just across the border: meshed later, they would miss the points of the
   // tiles that left (their rim), and the faces along the border with them.
   std::vector<VoxelKey> ring;

@@ -156,15 +156,15 @@ bool Run::frame(std::size_t i) {
   poses_.mapped(i, T_W_L, frame_stamp_s);
   ++report_.frames;
   logFrame(frame_index, stats);
+  const std::set<mapping::TileKey>& leaving = tiles_.closeLeftTiles(i, T_W_L);
   if (params_.observer) {
-    params_.observer(
-        {mapper_, i + 1, dataset_.size(), frame_index, T_W_L, refined ? &*refined : nullptr, report_.times, false});
+    params_.observer({mapper_, i + 1, dataset_.size(), frame_index, T_W_L, refined ? &*refined : nullptr,
+                      report_.times, false, &leaving});
   }
-  // After the observer, which was handed this frame's voxel indices: eviction renumbers them. Its
-  // time is the frame's.
-  Stopwatch evict_clock;
-  tile_error_ = tiles_.afterFrame(i, T_W_L);
-  report_.times.add("total", frame_ms + evict_clock.elapsedMs());
+  // After the observer, which was handed this frame's voxel indices: dropping tiles renumbers
+  // them. The look's time is the frame's.
+  tile_error_ = tiles_.dropClosedTiles();
+  report_.times.add("total", frame_ms + tiles_.lookMs());
   return tile_error_.isOk();
 }
 

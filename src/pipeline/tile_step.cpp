@@ -3,6 +3,7 @@
 #include <fmt/format.h>
 
 #include "artemis/core/log.hpp"
+#include "artemis/core/timer.hpp"
 #include "tiled_mesh.hpp"
 
 namespace artemis::pipeline {
@@ -20,23 +21,36 @@ TileStep::TileStep(mapping::Mapper& mapper, RefinementStage& stage2, RunReport& 
   mapper_.setTileDirectory(folder_);
 }
 
-Status TileStep::afterFrame(std::size_t i, const Isometry3d& T_W_L) {
+const std::set<mapping::TileKey>& TileStep::closeLeftTiles(std::size_t i, const Isometry3d& T_W_L) {
+  closing_.clear();
+  look_ms_ = 0.0;
   const mapping::TileParams& p = mapper_.params().tiles;
-  if (!p.enabled || (i + 1) % static_cast<std::size_t>(p.check_every) != 0) return Status::ok();
+  if (!p.enabled || (i + 1) % static_cast<std::size_t>(p.check_every) != 0) return closing_;
+  Stopwatch clock;
   std::vector<Eigen::Vector3f> keep_near = stage2_.viewPositions();
   keep_near.push_back(T_W_L.translation().cast<float>());
-  auto evicted = mapper_.evictTiles(keep_near);
-  if (!evicted) return evicted.status();
-  report_.tiles_in_memory = evicted->tiles_in_memory;
-  if (evicted->tiles == 0) return Status::ok();
-  stage2_.renumberVertices(evicted->new_id);
-  report_.tiles_finished += evicted->tiles;
-  report_.times.add("evict", evicted->ms);
+  std::size_t in_memory = 0;
+  closing_ = mapper_.leftTiles(keep_near, &in_memory);
+  report_.tiles_in_memory = in_memory - closing_.size();
+  closed_voxels_ = mapper_.closeTiles(closing_);
+  look_ms_ = clock.elapsedMs();
+  return closing_;
+}
+
+Status TileStep::dropClosedTiles() {
+  if (closing_.empty()) return Status::ok();
+  auto dropped = mapper_.dropTiles(closing_);
+  closing_.clear();
+  if (!dropped) return dropped.status();
+  look_ms_ += dropped->ms;
+  stage2_.renumberVertices(dropped->new_id);
+  report_.tiles_finished += dropped->tiles;
+  report_.times.add("evict", look_ms_);
   log::debug(
       "tiles: {} finished ({} voxels, {} vertices left memory, {} faces written, {} voxels meshed), {} in memory; "
-      "{:.1f} ms (closing {:.1f}, writing {:.1f}, dropping {:.1f})",
-      evicted->tiles, evicted->voxels, evicted->vertices, evicted->faces, evicted->meshed_voxels,
-      evicted->tiles_in_memory, evicted->ms, evicted->close_ms, evicted->write_ms, evicted->drop_ms);
+      "{:.1f} ms (writing {:.1f}, dropping {:.1f})",
+      dropped->tiles, dropped->voxels, dropped->vertices, dropped->faces, closed_voxels_, report_.tiles_in_memory,
+      look_ms_, dropped->write_ms, dropped->drop_ms);
   return Status::ok();
 }
 

@@ -9,6 +9,7 @@
 // --resume, removed by a fresh run); with the outputs they become OUT/tiles.
 
 #include <filesystem>
+#include <set>
 
 #include "artemis/core/status.hpp"
 #include "artemis/core/transform.hpp"
@@ -27,9 +28,13 @@ class TileStep {
   TileStep(mapping::Mapper& mapper, RefinementStage& stage2, RunReport& report, const std::filesystem::path& out,
            bool resumed);
 
-  // After the range's i-th frame (mapped at T_W_L), every check_every frames: writes and drops the
-  // tiles left behind.
-  Status afterFrame(std::size_t i, const Isometry3d& T_W_L);
+  // After the range's i-th frame (mapped at T_W_L), every check_every frames: finds the tiles left
+  // behind and closes them (their last changes go to the mesh's change log: the observer shows
+  // them), then, after the observer, writes and drops them. Both steps' time is the look's.
+  const std::set<mapping::TileKey>& closeLeftTiles(std::size_t i, const Isometry3d& T_W_L);
+  Status dropClosedTiles();
+  // The last look's time (ms, 0 when there was none).
+  [[nodiscard]] double lookMs() const { return look_ms_; }
   // After the final meshing and stage 2's last views: when tiles were finished, writes the rest,
   // stitches mesh.ply (and mesh_classes.ply with `classes`) into `staging` and moves the tile
   // folder there. Returns whether it did (false: the mesh is in memory; write it as before).
@@ -40,6 +45,9 @@ class TileStep {
   RefinementStage& stage2_;
   RunReport& report_;
   std::filesystem::path folder_;
+  std::set<mapping::TileKey> closing_;
+  std::size_t closed_voxels_ = 0;
+  double look_ms_ = 0.0;
 };
 
 }  // namespace artemis::pipeline

@@ -79,7 +79,7 @@ TEST(Tiles, VoxelMapAndMeshDropWhatLeavesAndRenumberWhatStays) {
 }
 
 TEST(Tiles, TileFilesReadBackAsWrittenAndRefuseDamage) {
-  test::TempDir tmp;
+  ::artemis::test::TempDir tmp;
   TileContents t;
   t.key = {-3, 7};
   t.uids = {4, 9, 12};
@@ -132,7 +132,7 @@ TEST(Tiles, KeysAndDistancesOfTiles) {
 }
 
 TEST(Tiles, TheMapperWritesTheTilesTheDriveLeftAndDropsTheirReturns) {
-  test::TempDir tmp;
+  ::artemis::test::TempDir tmp;
   MapperParams params;
   params.tiles.edge_m = 6.4;
   params.tiles.evict_distance_m = 90.0;

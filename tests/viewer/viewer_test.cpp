@@ -143,6 +143,38 @@ TEST(ViewerScene, OnlyChangedAndRemovedBlocksAreSentSinceAVersion) {
   EXPECT_EQ(scene.infoJson()["blocks"], 3);
 }
 
+TEST(ViewerScene, BlocksMovedToDiskAreServedAsTheyWere) {
+  const Strip s;
+  Scene scene;
+  scene.update(meshBlocks(s.positions, s.triangles, s.rgb, s.classes, 3.0));
+  const std::string before = scene.encodeSince(0);
+  const auto info_before = scene.infoJson();
+  // All blocks but the first go to disk.
+  const BlockKey first = decode(before).blocks[0].key;
+  const auto moved = scene.spillIf([&](const BlockKey& b) { return b == first; });
+  ASSERT_TRUE(moved) << moved.status().message();
+  EXPECT_EQ(*moved, 3u);
+  EXPECT_EQ(scene.blocksOnDisk(), 3u);
+  EXPECT_EQ(scene.encodeSince(0), before);  // byte for byte, versions and all
+  EXPECT_EQ(decode(scene.encodeSince(1)).blocks.size(), 0u);
+  EXPECT_EQ(scene.infoJson()["faces"], info_before["faces"]);
+  EXPECT_EQ(scene.infoJson()["vertices"], info_before["vertices"]);
+  EXPECT_EQ(scene.infoJson()["blocks"], 4);
+  // A block on disk that changes again is the new one, in memory.
+  auto blocks = meshBlocks(s.positions, s.triangles, s.rgb, s.classes, 3.0);
+  const auto& last = blocks.back();
+  Block smaller = last.second;
+  smaller.indices.resize(3);
+  scene.update({{last.first, smaller}});
+  EXPECT_EQ(scene.blocksOnDisk(), 2u);
+  const Decoded d = decode(scene.encodeSince(1));
+  ASSERT_EQ(d.blocks.size(), 1u);
+  EXPECT_EQ(d.blocks[0].idx.size(), 3u);
+  EXPECT_EQ(scene.infoJson()["faces"],
+            info_before["faces"].get<std::size_t>() - last.second.indices.size() / 3 + 1);
+  EXPECT_EQ(decode(scene.encodeSince(0)).blocks.size(), 4u);
+}
+
 TEST(ViewerServer, PathsOutsideTheRootAreRefused) {
   test::TempDir tmp;
   const fs::path root = tmp / "root";

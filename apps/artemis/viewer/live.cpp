@@ -27,7 +27,35 @@ void LivePublisher::onFrame(const pipeline::FrameUpdate& update) {
     for (const std::uint32_t index : update.refinement->voxels) mark(update.mapper.voxels().keyAt(index));
   }
   if (!update.finished) scene_.appendTrajectory(update.T_W_L.translation());
-  if (update.finished || since_publish_.elapsedMs() >= 1000.0 * interval_s_) publish(update);
+  const bool leaving = update.leaving_tiles != nullptr && !update.leaving_tiles->empty();
+  // Tiles about to leave the mapper's memory are shown as they leave, then kept on disk.
+  if (leaving || update.finished || since_publish_.elapsedMs() >= 1000.0 * interval_s_) publish(update);
+  if (leaving) spillFinished(update);
+}
+
+bool LivePublisher::finishedBlock(const pipeline::FrameUpdate& update, const BlockKey& b, bool leaving) const {
+  const mapping::TileStore& tiles = update.mapper.tiles();
+  if (!tiles.anyFinished() && !leaving) return false;
+  const mapping::TileKey lo = tiles.tileOf({b.x * block_voxels_, b.y * block_voxels_, 0});
+  const mapping::TileKey hi =
+      tiles.tileOf({b.x * block_voxels_ + block_voxels_ - 1, b.y * block_voxels_ + block_voxels_ - 1, 0});
+  for (std::int32_t x = lo.x; x <= hi.x; ++x) {
+    for (std::int32_t y = lo.y; y <= hi.y; ++y) {
+      const bool done = tiles.finished({x, y}) || (leaving && update.leaving_tiles->contains({x, y}));
+      if (!done) return false;
+    }
+  }
+  return true;
+}
+
+void LivePublisher::spillFinished(const pipeline::FrameUpdate& update) {
+  // A block stays in memory while any tile it overlaps may still change.
+  auto moved = scene_.spillIf([&](const BlockKey& b) { return !finishedBlock(update, b, true); });
+  if (!moved) {
+    log::warn("{}; the viewer keeps those blocks in memory", moved.status().message());
+    return;
+  }
+  log::debug("viewer: {} blocks of finished tiles moved to disk", *moved);
 }
 
 void LivePublisher::publish(const pipeline::FrameUpdate& update) {
@@ -36,7 +64,11 @@ void LivePublisher::publish(const pipeline::FrameUpdate& update) {
   // second frame through.
   since_publish_.reset();
   Stopwatch clock;
-  const std::vector<BlockKey> keys(dirty_.begin(), dirty_.end());
+  // A block of finished tiles is what it was when they left (the mapper no longer holds its faces).
+  std::vector<BlockKey> keys;
+  for (const BlockKey& b : dirty_) {
+    if (!finishedBlock(update, b, false)) keys.push_back(b);
+  }
   dirty_.clear();
   auto blocks = liveBlocks(update.mapper.mesh(), keys, block_voxels_);
   scene_.update(std::move(blocks));

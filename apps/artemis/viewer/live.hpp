@@ -4,6 +4,9 @@
 // voxels stage 2 saw) are marked; at most every `interval_s` (and after the final meshing) the
 // marked blocks are rebuilt from the mapper's mesh and published, with the frame counter, the
 // per-stage timings and the trajectory. Work per publish follows the blocks touched, not the map.
+// When tiles leave the mapper's memory (mapping/tile_store.hpp) the blocks are published at once
+// and the blocks inside finished tiles go to the scene's file on disk (Scene::spillIf): the
+// viewer's memory follows the tiles in memory, as the mapper's does.
 
 #include <unordered_set>
 
@@ -22,6 +25,10 @@ class LivePublisher {
 
  private:
   void publish(const pipeline::FrameUpdate& update);
+  // Moves the blocks that lie in tiles the mapper has finished (or is finishing) to disk.
+  void spillFinished(const pipeline::FrameUpdate& update);
+  // Whether block b lies in tiles the mapper has finished (or, with `leaving`, is finishing).
+  [[nodiscard]] bool finishedBlock(const pipeline::FrameUpdate& update, const BlockKey& b, bool leaving) const;
 
   Scene& scene_;
   std::int32_t block_voxels_;

@@ -1,8 +1,13 @@
 #include "scene.hpp"
 
+#include <unistd.h>
+
 #include <algorithm>
+#include <cerrno>
 #include <cmath>
 #include <cstring>
+#include <stdexcept>
+#include <string>
 #include <unordered_map>
 
 #include "artemis/core/colour.hpp"
@@ -44,15 +49,62 @@ class BlockBuilder {
   std::vector<std::uint32_t> order_;
 };
 
+// One block as it goes on the wire.
+void encodeBlock(std::string& out, const BlockKey& key, const Block& b) {
+  put(out, key.x);
+  put(out, key.y);
+  put(out, key.z);
+  put(out, static_cast<std::uint32_t>(b.vertexCount()));
+  put(out, static_cast<std::uint32_t>(b.indices.size()));
+  putArray(out, b.xyz);
+  putArray(out, b.rgb);
+  putArray(out, b.classes);
+  putArray(out, b.indices);
+}
+
+std::size_t encodedBytes(const Block& b) { return 20 + 16 * b.vertexCount() + 4 * b.indices.size(); }
+
 }  // namespace
+
+Scene::~Scene() {
+  if (spill_ != nullptr) std::fclose(spill_);
+}
+
+Status Scene::spill(const BlockKey& key, Entry& e) {
+  if (spill_ == nullptr) {
+    spill_ = std::tmpfile();
+    if (spill_ == nullptr) return ioError(std::string("viewer: cannot make a temporary file for blocks: ") + std::strerror(errno));
+  }
+  std::string bytes;
+  bytes.reserve(encodedBytes(e.block));
+  encodeBlock(bytes, key, e.block);
+  if (std::fseek(spill_, static_cast<long>(spill_size_), SEEK_SET) != 0 ||
+      std::fwrite(bytes.data(), 1, bytes.size(), spill_) != bytes.size() || std::fflush(spill_) != 0) {
+    return ioError(std::string("viewer: cannot write blocks to its temporary file: ") + std::strerror(errno));
+  }
+  e.spilled = true;
+  e.offset = spill_size_;
+  e.bytes = static_cast<std::uint32_t>(bytes.size());
+  e.spilled_vertices = static_cast<std::uint32_t>(e.block.vertexCount());
+  e.spilled_faces = static_cast<std::uint32_t>(e.block.indices.size() / 3);
+  e.block = Block{};  // its memory goes
+  spill_size_ += bytes.size();
+  return Status::ok();
+}
+
+std::size_t Scene::blocksOnDisk() const {
+  std::lock_guard lock(mutex_);
+  return static_cast<std::size_t>(std::count_if(blocks_.begin(), blocks_.end(), [](const auto& kv) { return kv.second.spilled; }));
+}
 
 void Scene::update(std::vector<std::pair<BlockKey, Block>> blocks) {
   std::lock_guard lock(mutex_);
   ++version_;
   for (auto& [key, block] : blocks) {
     Entry& e = blocks_[key];
-    vertices_ -= e.block.vertexCount();
-    faces_ -= e.block.indices.size() / 3;
+    vertices_ -= e.vertexCount();
+    faces_ -= e.spilled ? e.spilled_faces : e.block.indices.size() / 3;
+    e.spilled = false;  // what was on disk is superseded
     e.block = std::move(block);
     e.version = version_;
     vertices_ += e.block.vertexCount();
@@ -71,9 +123,9 @@ std::string Scene::encodeSince(std::uint32_t since) const {
   std::uint32_t count = 0;
   std::size_t bytes = 16;
   for (const auto& [key, e] : blocks_) {
-    if (e.version <= since || (since == 0 && e.block.vertexCount() == 0)) continue;
+    if (e.version <= since || (since == 0 && e.vertexCount() == 0)) continue;
     ++count;
-    bytes += 20 + 16 * e.block.vertexCount() + 4 * e.block.indices.size();
+    bytes += e.spilled ? e.bytes : encodedBytes(e.block);
   }
   out.reserve(bytes);
   put(out, kBlocksMagic);
@@ -81,16 +133,18 @@ std::string Scene::encodeSince(std::uint32_t since) const {
   put(out, version_);
   put(out, count);
   for (const auto& [key, e] : blocks_) {
-    if (e.version <= since || (since == 0 && e.block.vertexCount() == 0)) continue;
-    put(out, key.x);
-    put(out, key.y);
-    put(out, key.z);
-    put(out, static_cast<std::uint32_t>(e.block.vertexCount()));
-    put(out, static_cast<std::uint32_t>(e.block.indices.size()));
-    putArray(out, e.block.xyz);
-    putArray(out, e.block.rgb);
-    putArray(out, e.block.classes);
-    putArray(out, e.block.indices);
+    if (e.version <= since || (since == 0 && e.vertexCount() == 0)) continue;
+    if (!e.spilled) {
+      encodeBlock(out, key, e.block);
+      continue;
+    }
+    const std::size_t at = out.size();
+    out.resize(at + e.bytes);
+    // Written by this process and never changed: a short read is a broken disk, not bad input.
+    if (::pread(fileno(spill_), out.data() + at, e.bytes, static_cast<off_t>(e.offset)) != static_cast<ssize_t>(e.bytes)) {
+      throw std::runtime_error(std::string("viewer: cannot read blocks back from its temporary file: ") +
+                               std::strerror(errno));
+    }
   }
   return out;
 }
@@ -112,7 +166,7 @@ nlohmann::json Scene::infoJson() const {
   j["vertices"] = vertices_;
   j["faces"] = faces_;
   std::size_t live = 0;
-  for (const auto& [key, e] : blocks_) live += e.block.vertexCount() > 0 ? 1 : 0;
+  for (const auto& [key, e] : blocks_) live += e.vertexCount() > 0 ? 1 : 0;
   j["blocks"] = live;
   j["trajectory"] = trajectory_;
   return j;

@@ -15,6 +15,7 @@
 
 #include <array>
 #include <cstdint>
+#include <cstdio>
 #include <map>
 #include <mutex>
 #include <span>
@@ -24,6 +25,7 @@
 #include <Eigen/Core>
 #include <nlohmann/json.hpp>
 
+#include "artemis/core/status.hpp"
 #include "artemis/mapping/semantic_mesh.hpp"
 #include "artemis/mapping/voxel_key.hpp"
 
@@ -44,8 +46,20 @@ inline constexpr std::uint32_t kBlocksFormat = 1;
 
 class Scene {
  public:
+  Scene() = default;
+  ~Scene();
+  Scene(const Scene&) = delete;
+  Scene& operator=(const Scene&) = delete;
+
   // Replaces the given blocks (an empty block removes one) as one new version.
   void update(std::vector<std::pair<BlockKey, Block>> blocks);
+  // Moves the blocks `keep_in_memory` refuses to disk (an unnamed temporary file, gone with the
+  // process), unchanged and with their versions: a long run's viewer then holds in memory only
+  // what may still change (the map's tiles in memory), and serves the rest from disk. Returns
+  // how many it moved; an error names the file problem (the blocks then stay in memory).
+  template <typename Keep>
+  Result<std::size_t> spillIf(Keep&& keep_in_memory);
+  [[nodiscard]] std::size_t blocksOnDisk() const;
   // The blocks changed after version `since`, encoded as above (all blocks for since = 0).
   [[nodiscard]] std::string encodeSince(std::uint32_t since) const;
   [[nodiscard]] std::uint32_t version() const;
@@ -60,7 +74,18 @@ class Scene {
   struct Entry {
     Block block;
     std::uint32_t version = 0;
+    // On disk: the block's encoding (as encodeSince writes it) at this offset of spill_.
+    bool spilled = false;
+    std::uint64_t offset = 0;
+    std::uint32_t bytes = 0;
+    std::uint32_t spilled_vertices = 0;
+    std::uint32_t spilled_faces = 0;
+    [[nodiscard]] std::size_t vertexCount() const { return spilled ? spilled_vertices : block.vertexCount(); }
   };
+  // Writes e's block to the spill file and frees it.
+  Status spill(const BlockKey& key, Entry& e);
+  std::FILE* spill_ = nullptr;
+  std::uint64_t spill_size_ = 0;
   mutable std::mutex mutex_;
   std::map<BlockKey, Entry> blocks_;  // removed blocks stay as empty entries (tombstones)
   std::uint32_t version_ = 0;
@@ -69,6 +94,18 @@ class Scene {
   nlohmann::json info_ = nlohmann::json::object();
   std::vector<std::array<float, 3>> trajectory_;
 };
+
+template <typename Keep>
+Result<std::size_t> Scene::spillIf(Keep&& keep_in_memory) {
+  std::lock_guard lock(mutex_);
+  std::size_t moved = 0;
+  for (auto& [key, e] : blocks_) {
+    if (e.spilled || e.block.vertexCount() == 0 || keep_in_memory(key)) continue;
+    if (Status s = spill(key, e); !s.isOk()) return s;
+    ++moved;
+  }
+  return moved;
+}
 
 // A mesh as blocks of `block_size_m`: what `artemis view` serves for a finished run.
 // `rgb` and `classes` may be empty.

@@ -125,8 +125,18 @@ class Mapper {
   // Writes the tiles that every position of `keep_near` (the sensor, the poses of the views stage 2
   // still holds) has left by more than params().tiles.evict_distance_m, after meshing what is
   // pending in them and closing their small holes, and drops them from memory. Vertices and voxels
-  // are renumbered (see EvictionStats::new_id). Errors name the tile file.
+  // are renumbered (see EvictionStats::new_id). Errors name the tile file. In three steps for an
+  // observer that shows the closed tiles before they go: leftTiles, closeTiles, dropTiles.
   Result<EvictionStats> evictTiles(const std::vector<Eigen::Vector3f>& keep_near);
+  // The tiles in memory that every position of `keep_near` has left (none without a tile folder);
+  // `in_memory` gets how many tiles are in memory.
+  [[nodiscard]] std::set<TileKey> leftTiles(const std::vector<Eigen::Vector3f>& keep_near,
+                                            std::size_t* in_memory = nullptr) const;
+  // Meshes what is pending in `tiles` and in the voxels just across their border, and closes their
+  // small holes (the changes go to the mesh's change log). Returns how many voxels it meshed.
+  std::size_t closeTiles(const std::set<TileKey>& tiles);
+  // Writes `tiles` (closed) and drops them from memory.
+  Result<EvictionStats> dropTiles(const std::set<TileKey>& tiles);
   // After finish(), when tiles were finished: writes every tile still in memory, so that the tile
   // files hold the whole map. Returns how many it wrote.
   Result<std::size_t> writeRemainingTiles();
@@ -162,10 +172,8 @@ class Mapper {
   void fillHoles(const std::vector<Face>& faces, const std::function<bool(const Face&)>& keep = {});
   // Whether every corner of f lies in one of `tiles` (or, with `outside`, in none of them).
   [[nodiscard]] bool cornersIn(const Face& f, const std::set<TileKey>& tiles, bool outside = false) const;
-  // Tiles: before `keys` (the voxels of the tiles `far`) leave, meshes what is pending among them and
-  // the voxels in memory just across their border, and closes the small holes there. Returns how
-  // many voxels it meshed.
-  std::size_t closeBeforeEviction(const std::vector<VoxelKey>& keys, const std::set<TileKey>& far);
+  // Tiles: the voxels of `tiles` (sorted), and flags of them by index when `gone` is given.
+  [[nodiscard]] std::vector<VoxelKey> voxelsOf(const std::set<TileKey>& tiles, std::vector<std::uint8_t>* gone) const;
   // Tiles: drops the returns that fall in finished tiles (sets drop_); returns how many.
   std::size_t dropInFinishedTiles(const std::vector<Eigen::Vector3f>& points_W);
   // Writes `tiles` (their vertices and the faces their voxels own); adds the faces written to `faces`.

@@ -21,6 +21,7 @@
 #include <atomic>
 #include <filesystem>
 #include <functional>
+#include <set>
 #include <string>
 
 #include "artemis/core/status.hpp"
@@ -65,6 +66,9 @@ struct FrameUpdate {
   const mapping::RefinementStats* refinement = nullptr;  // nullptr: no stage 2 this frame
   const StageTimes& times;
   bool finished = false;
+  // Tiles closed this frame that leave memory right after the observer (nullptr or empty: none):
+  // an observer that keeps what it showed of them has their last state now.
+  const std::set<mapping::TileKey>* leaving_tiles = nullptr;
 };
 using FrameObserver = std::function<void(const FrameUpdate&)>;
 

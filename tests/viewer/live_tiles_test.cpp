@@ -1,0 +1,48 @@
+// The live viewer during a run whose tiles leave memory: the blocks of finished tiles are shown as
+// they were when they left and then kept on disk, and at the end the viewer shows every face of
+// the run's mesh.ply, once.
+#include <gtest/gtest.h>
+
+#include <filesystem>
+
+#include "artemis/datasets/dataset.hpp"
+#include "artemis/pipeline/run.hpp"
+#include "artemis/sim/writer.hpp"
+#include "viewer/live.hpp"
+#include "viewer/scene.hpp"
+#include "support/test_support.hpp"
+
+namespace artemis::viewer {
+namespace {
+
+TEST(LiveViewerTiles, FinishedTilesGoToDiskAndTheViewerShowsTheWholeMesh) {
+  ::artemis::test::TempDir recording;
+  sim::SimParams sim;
+  sim.frames = 40;
+  sim.lidar.azimuth_step_deg = 0.72;
+  ASSERT_TRUE(sim::writeSequence(sim, recording.path()).isOk());
+  datasets::DatasetOptions options;
+  options.load_images = false;
+  options.max_range_m = 12.0;
+  auto dataset = datasets::openDataset(recording.path(), datasets::DatasetFormat::kAuto, options);
+  ASSERT_TRUE(dataset) << dataset.status().toString();
+
+  pipeline::RunParams params;
+  params.mapper.tiles.edge_m = 6.4;
+  params.mapper.tiles.evict_distance_m = 15.0;
+  params.mapper.tiles.check_every = 5;
+  params.mapper.refinement.max_range_m = 12.0;
+  Scene scene;
+  LivePublisher publisher(scene, 16, 0.0);
+  params.observer = [&](const pipeline::FrameUpdate& update) { publisher.onFrame(update); };
+  ::artemis::test::TempDir out;
+  auto report = pipeline::runPipeline(**dataset, params, out.path(), "{}\n");
+  ASSERT_TRUE(report) << report.status().toString();
+  ASSERT_GT(report->tiles_finished, 5U);
+  EXPECT_GT(scene.blocksOnDisk(), 5U);
+  // What the viewer shows is what the run wrote.
+  EXPECT_EQ(scene.infoJson()["faces"].get<std::size_t>(), report->faces);
+}
+
+}  // namespace
+}  // namespace artemis::viewer
