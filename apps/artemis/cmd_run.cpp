@@ -52,6 +52,10 @@ int runRun(RunFlags flags, const std::vector<std::string>& args) {
     log::error("{}", box.status().message());
     return 1;
   }
+  if (Status s = checkTileFlags(flags.params.mapper); !s.isOk()) {
+    log::error("{}", s.message());
+    return 1;
+  }
   flags.params.mapper.vehicle_box_L = *box;
   if (flags.dataset.path.empty()) {
     auto demo = demoDataset(flags.out);

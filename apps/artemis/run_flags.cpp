@@ -4,6 +4,8 @@
 #include <cstdint>
 #include <sstream>
 
+#include <fmt/format.h>
+
 #include "flag_checks.hpp"
 #include "run_flags.hpp"
 
@@ -59,7 +61,8 @@ void addMapperFlags(CLI::App& cmd, RunFlags& f) {
       "--no-tiles", [&tiles = m.tiles] { tiles.enabled = false; },
       "Keep the whole map in memory (a long drive's memory then grows with the drive)");
   cmd.add_option("--tile-edge", m.tiles.edge_m,
-                 "Tiles: the map is cut into square columns of this edge, rounded to whole 16-voxel blocks (m)")
+                 "Tiles: the map is cut into square columns of this edge, rounded to whole 16-voxel blocks, one at "
+                 "least (m)")
       ->capture_default_str()
       ->check(within(0.8, 10000.0));
   cmd.add_option("--evict-distance", m.tiles.evict_distance_m,
@@ -276,6 +279,16 @@ void addRunFlags(CLI::App& cmd, RunFlags& flags) {
   addSegmenterFlags(cmd, flags);
   addLiveViewerFlags(cmd, flags);
   addSemanticFlags(cmd, flags);
+}
+
+Status checkTileFlags(const mapping::MapperParams& m) {
+  if (!m.tiles.enabled) return Status::ok();
+  if (!(m.tiles.evict_distance_m > m.refinement.max_range_m)) {
+    return invalidArgument(fmt::format(
+        "--evict-distance {} must exceed --texture-range ({} m): a view could still texture a tile already written",
+        m.tiles.evict_distance_m, m.refinement.max_range_m));
+  }
+  return Status::ok();
 }
 
 Result<Eigen::AlignedBox3f> parseVehicleBox(const std::string& text) {

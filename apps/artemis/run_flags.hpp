@@ -52,6 +52,9 @@ void addRunFlags(CLI::App& cmd, RunFlags& flags);
 // by is cut: the simulator's parked trucks stand 1.05 m from its path), "off", or the six numbers
 // x0,x1,y0,y1,z0,z1 of the LiDAR frame.
 Result<Eigen::AlignedBox3f> parseVehicleBox(const std::string& text);
+// The tile settings against the others (--evict-distance beyond --texture-range): an error
+// naming the flag.
+Status checkTileFlags(const mapping::MapperParams& m);
 
 // --pose-refinement "auto": on where the poses come from GPS/IMU (KITTI raw's OXTS) or there are
 // none; off where the recording's or the user's poses are taken as they are (KITTI odometry

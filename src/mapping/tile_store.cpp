@@ -98,9 +98,8 @@ Result<TileContents> readTileFile(const fs::path& path) {
 
 TileStore::TileStore(const TileParams& params, double voxel_size_m) : params_(params), voxel_size_m_(voxel_size_m) {
   const double block_m = VoxelMap::kBlockVoxels * voxel_size_m;
-  if (!(params.edge_m >= block_m) || !std::isfinite(params.edge_m)) {
-    throw std::invalid_argument(fmt::format("tiles: the edge must be at least one block ({} m), not {} m", block_m,
-                                            params.edge_m));
+  if (!(params.edge_m > 0.0) || !std::isfinite(params.edge_m)) {
+    throw std::invalid_argument(fmt::format("tiles: the edge must be > 0 m, not {} m", params.edge_m));
   }
   if (!(params.evict_distance_m > 0.0) || !std::isfinite(params.evict_distance_m)) {
     throw std::invalid_argument(
@@ -109,7 +108,7 @@ TileStore::TileStore(const TileParams& params, double voxel_size_m) : params_(pa
   if (params.check_every < 1) {
     throw std::invalid_argument(fmt::format("tiles: check_every must be >= 1, not {}", params.check_every));
   }
-  edge_voxels_ = static_cast<std::int32_t>(std::lround(params.edge_m / block_m)) * VoxelMap::kBlockVoxels;
+  edge_voxels_ = static_cast<std::int32_t>(std::max(1L, std::lround(params.edge_m / block_m))) * VoxelMap::kBlockVoxels;
 }
 
 TileKey TileStore::tileOf(const VoxelKey& voxel) const {

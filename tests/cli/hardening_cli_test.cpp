@@ -58,6 +58,9 @@ TEST(Hardening, EveryMapperSettingIsCheckedAtAndBeyondBothEnds) {
       {"--sigma-photo", "0.0001", "100", "0", "101"},
       {"--min-range", "0", "1000", "-1", "1001"},
       {"--max-range", "0.1", "1000", "0", "1e9"},
+      {"--tile-edge", "0.8", "10000", "0.7", "10001"},
+      {"--evict-distance", "80.5", "1000000", "80", "1e7"},
+      {"--evict-every", "1", "1000000", "0", "1000001"},
   };
   for (const auto& s : settings) {
     SCOPED_TRACE(s.flag);

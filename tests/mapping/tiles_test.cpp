@@ -124,7 +124,8 @@ TEST(Tiles, KeysAndDistancesOfTiles) {
   EXPECT_EQ(store.tileOf({-64, -65, 0}), (TileKey{-1, -2}));
   EXPECT_DOUBLE_EQ(store.distance({0, 0}, {10, 10, 50}), 0.0);
   EXPECT_NEAR(store.distance({0, 0}, {-3, 29.6f, 0}), 5.0, 1e-5);
-  EXPECT_THROW(TileStore({.edge_m = 1.0}, 0.4), std::invalid_argument);
+  EXPECT_EQ(TileStore({.edge_m = 1.0}, 0.4).tileOf({16, 0, 0}), (TileKey{1, 0}));  // one block at least
+  EXPECT_THROW(TileStore({.edge_m = 0.0}, 0.4), std::invalid_argument);
   EXPECT_THROW(TileStore({.evict_distance_m = 0.0}, 0.4), std::invalid_argument);
   MapperParams params;
   params.tiles.evict_distance_m = 50.0;  // less than stage 2's 80 m

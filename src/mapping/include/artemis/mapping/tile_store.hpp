@@ -34,7 +34,8 @@ namespace artemis::mapping {
 
 struct TileParams {
   bool enabled = true;
-  // Edge of a tile, rounded to whole blocks (VoxelMap::kBlockVoxels voxels, 6.4 m at 0.4 m).
+  // Edge of a tile, rounded to whole blocks (VoxelMap::kBlockVoxels voxels, 6.4 m at 0.4 m), one
+  // at least.
   double edge_m = 25.6;
   // A tile is finished once it is farther than this (horizontally) from the sensor and from every
   // view stage 2 still holds. It must exceed stage 2's reach (RefinementParams::max_range_m) and
@@ -83,7 +84,7 @@ Result<TileContents> readTileFile(const std::filesystem::path& path);
 // Where finished tiles go, and which went.
 class TileStore {
  public:
-  // Throws std::invalid_argument for an edge below one block or a distance that is not > 0.
+  // Throws std::invalid_argument for an edge or a distance that is not > 0.
   TileStore(const TileParams& params, double voxel_size_m);
 
   [[nodiscard]] const TileParams& params() const { return params_; }
