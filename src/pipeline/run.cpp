@@ -95,6 +95,8 @@ class Run {
   // After finish(): when tiles left memory, the rest are written and the meshes stitched into
   // `staging` (true), else nothing is done (false).
   Result<bool> finishTiles(const fs::path& staging);
+  // Once the outputs are in place.
+  void removeRunningTiles() const { tiles_.removeRunningFolder(); }
   // Checkpoints: every stage's state between two frames (in real time, after the segmenter's
   // frame in flight was fused), and back. The odometry is saved by its owner.
   void save(ArchiveWriter& out);
@@ -378,6 +380,7 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
     return s;
   }
   if (Status s = folder->commit(); !s.isOk()) return s;
+  run.removeRunningTiles();
   return report;
 }
 

@@ -70,10 +70,25 @@ Result<bool> TileStep::finish(const fs::path& staging, const SemanticPlyOptions*
     log::warn("tiles: {} faces across a tile border named a vertex no tile held and were left out",
               stitched->dangling_faces);
   }
+  // Linked (copied where links fail), not moved: a run killed before its outputs are in place
+  // still finds its tiles when resumed. removeRunningFolder() clears them once they are.
+  const fs::path to = staging / "tiles";
   std::error_code ec;
-  fs::rename(folder_, staging / "tiles", ec);
-  if (ec) return ioError(fmt::format("{}: cannot move the tiles into the outputs: {}", folder_.string(), ec.message()));
+  fs::create_directories(to, ec);
+  for (const fs::directory_entry& e : fs::directory_iterator(folder_, ec)) {
+    std::error_code link_ec;
+    fs::create_hard_link(e.path(), to / e.path().filename(), link_ec);
+    if (link_ec) fs::copy_file(e.path(), to / e.path().filename(), fs::copy_options::overwrite_existing, ec);
+    if (ec) break;
+  }
+  if (ec) return ioError(fmt::format("{}: cannot put the tiles into the outputs: {}", folder_.string(), ec.message()));
   return true;
+}
+
+void TileStep::removeRunningFolder() const {
+  std::error_code ec;
+  fs::remove_all(folder_, ec);
+  if (ec) log::warn("{}: could not remove the tile folder of the finished run: {}", folder_.string(), ec.message());
 }
 
 }  // namespace artemis::pipeline

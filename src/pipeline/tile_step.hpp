@@ -6,7 +6,8 @@
 // (a short drive) writes its mesh from memory as before.
 //
 // While the run goes on the tile files live in OUT/.tiles-running (kept by a killed run for its
-// --resume, removed by a fresh run); with the outputs they become OUT/tiles.
+// --resume, removed by a fresh run); with the outputs they become OUT/tiles (linked), and the
+// running folder goes once the outputs are in place.
 
 #include <filesystem>
 #include <set>
@@ -36,9 +37,11 @@ class TileStep {
   // The last look's time (ms, 0 when there was none).
   [[nodiscard]] double lookMs() const { return look_ms_; }
   // After the final meshing and stage 2's last views: when tiles were finished, writes the rest,
-  // stitches mesh.ply (and mesh_classes.ply with `classes`) into `staging` and moves the tile
-  // folder there. Returns whether it did (false: the mesh is in memory; write it as before).
+  // stitches mesh.ply (and mesh_classes.ply with `classes`) into `staging` and puts the tile files
+  // there too. Returns whether it did (false: the mesh is in memory; write it as before).
   Result<bool> finish(const std::filesystem::path& staging, const SemanticPlyOptions* semantics, bool classes);
+  // After the outputs are in place: removes OUT/.tiles-running.
+  void removeRunningFolder() const;
 
  private:
   mapping::Mapper& mapper_;
