@@ -122,7 +122,8 @@ int runRun(RunFlags flags, const std::vector<std::string>& args) {
   flags.params.stop_requested = interrupt.flag();
   auto report = pipeline::runPipeline(**dataset, flags.params, flags.out, config,
                                       [&](std::size_t done, std::size_t total, const pipeline::RunReport& r) {
-                                        if (flags.params.mapper.tiles.enabled) {
+                                        // Known from the first look for finished tiles on.
+                                        if (r.tiles_in_memory > 0 || r.tiles_finished > 0) {
                                           progress.setDetail(fmt::format("tiles: {} in memory, {} written",
                                                                          r.tiles_in_memory, r.tiles_finished));
                                         }
