@@ -84,23 +84,6 @@ Status checkData(const std::string& file, const PlyData& data) {
   return Status::ok();
 }
 
-std::string headerText(const PlyData& data) {
-  std::string text = "ply\nformat ";
-  text += data.format == PlyFormat::kAscii ? "ascii" : "binary_little_endian";
-  text += " 1.0\n";
-  for (const auto& comment : data.comments) text += "comment " + comment + "\n";
-  for (const auto& element : data.elements) {
-    text += "element " + element.name + " " + std::to_string(element.count) + "\n";
-    for (const auto& property : element.properties) {
-      text += "property ";
-      if (property.is_list) text += std::string("list ") + plyTypeName(property.count_type) + " ";
-      text += std::string(plyTypeName(property.type)) + " " + property.name + "\n";
-    }
-  }
-  text += "end_header\n";
-  return text;
-}
-
 // A property seen as raw bytes, so that the per-value loop needs no type dispatch.
 struct RawColumn {
   const unsigned char* values = nullptr;
@@ -227,12 +210,29 @@ class BodyWriter {
 
 }  // namespace
 
+std::string plyHeaderText(const PlyData& data) {
+  std::string text = "ply\nformat ";
+  text += data.format == PlyFormat::kAscii ? "ascii" : "binary_little_endian";
+  text += " 1.0\n";
+  for (const auto& comment : data.comments) text += "comment " + comment + "\n";
+  for (const auto& element : data.elements) {
+    text += "element " + element.name + " " + std::to_string(element.count) + "\n";
+    for (const auto& property : element.properties) {
+      text += "property ";
+      if (property.is_list) text += std::string("list ") + plyTypeName(property.count_type) + " ";
+      text += std::string(plyTypeName(property.type)) + " " + property.name + "\n";
+    }
+  }
+  text += "end_header\n";
+  return text;
+}
+
 Status writePly(const std::filesystem::path& path, const PlyData& data) {
   const std::string file = path.string();
   if (Status status = checkData(file, data); !status.isOk()) return status;
   detail::AtomicFile out;
   if (Status status = out.open(path); !status.isOk()) return status;
-  const std::string header = headerText(data);
+  const std::string header = plyHeaderText(data);
   if (Status status = out.write(header.data(), header.size()); !status.isOk()) return status;
   BodyWriter body(out);
   for (const auto& element : data.elements) {

@@ -4,13 +4,14 @@
 
 #include <algorithm>
 #include <array>
-#include <cstring>
 #include <map>
 #include <set>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include "artemis/io/file.hpp"
+#include "artemis/io/ply.hpp"
 
 namespace artemis::pipeline {
 
@@ -108,19 +109,33 @@ Status planIndices(const mapping::TileStore& store, Plan& plan) {
   return Status::ok();
 }
 
-// A PLY file written in one go, header first, through a buffer.
+// The layout of a mesh file: `vertices` with `properties` (type, name), `faces` of three int indices.
+using Columns = std::vector<std::pair<io::PlyType, std::string>>;
+io::PlyData meshLayout(std::vector<std::string> comments, std::size_t vertices, const Columns& properties,
+                       std::size_t faces) {
+  io::PlyData layout;
+  layout.comments = std::move(comments);
+  io::PlyElement& vertex = layout.elements.emplace_back(io::PlyElement{"vertex", vertices, {}});
+  for (const auto& [type, name] : properties) {
+    io::PlyProperty& p = vertex.properties.emplace_back();
+    p.name = name;
+    p.type = type;
+  }
+  io::PlyElement& face = layout.elements.emplace_back(io::PlyElement{"face", faces, {}});
+  io::PlyProperty& indices = face.properties.emplace_back();
+  indices.name = "vertex_indices";
+  indices.type = io::PlyType::kInt32;
+  indices.is_list = true;
+  indices.count_type = io::PlyType::kUInt8;
+  return layout;
+}
+
+// A PLY file written in one go, header first (io's, for `layout`), through a buffer.
 class PlyStream {
  public:
-  Status open(const fs::path& path, const std::vector<std::string>& comments, std::size_t vertices,
-              const std::vector<std::pair<std::string, std::string>>& properties, std::size_t faces) {
-    path_ = path;
+  Status open(const fs::path& path, const io::PlyData& layout) {
     if (Status s = file_.open(path); !s.isOk()) return s;
-    std::string h = "ply\nformat binary_little_endian 1.0\n";
-    for (const std::string& c : comments) h += "comment " + c + "\n";
-    h += fmt::format("element vertex {}\n", vertices);
-    for (const auto& [type, name] : properties) h += "property " + type + " " + name + "\n";
-    h += fmt::format("element face {}\nproperty list uchar int vertex_indices\nend_header\n", faces);
-    buffer_ = h;
+    buffer_ = io::plyHeaderText(layout);
     return Status::ok();
   }
   template <typename T>
@@ -139,7 +154,6 @@ class PlyStream {
     buffer_.clear();
     return s;
   }
-  fs::path path_;
   io::AtomicFile file_;
   std::string buffer_;
 };
@@ -153,28 +167,33 @@ struct Outputs {
 };
 
 Status openOutputs(const Plan& plan, const fs::path& mesh_ply, const fs::path& classes_ply, Outputs& out) {
-  std::vector<std::pair<std::string, std::string>> props{{"float", "x"},  {"float", "y"},  {"float", "z"},
-                                                         {"float", "nx"}, {"float", "ny"}, {"float", "nz"}};
-  if (plan.textured) props.insert(props.end(), {{"uchar", "red"}, {"uchar", "green"}, {"uchar", "blue"}});
+  using io::PlyType;
+  Columns columns{{PlyType::kFloat32, "x"},  {PlyType::kFloat32, "y"},  {PlyType::kFloat32, "z"},
+                  {PlyType::kFloat32, "nx"}, {PlyType::kFloat32, "ny"}, {PlyType::kFloat32, "nz"}};
+  const Columns rgb{{PlyType::kUInt8, "red"}, {PlyType::kUInt8, "green"}, {PlyType::kUInt8, "blue"}};
+  if (plan.textured) columns.insert(columns.end(), rgb.begin(), rgb.end());
   std::vector<std::string> comments{"ARTEMIS Living Map: world frame, normals towards the sensor"};
   if (out.classes()) {
     comments.emplace_back("class_id: vocabulary id (see semantics.json; 0: none), confidence: 1 - exp(-lambda W_sem)");
-    props.insert(props.end(), {{"uchar", "class_id"}, {"float", "confidence"}});
+    columns.insert(columns.end(), {{PlyType::kUInt8, "class_id"}, {PlyType::kFloat32, "confidence"}});
     if (out.semantics->distribution) {
       for (const semantics::ClassId c : plan.slots) {
         std::string name(out.semantics->vocabulary->name(c));
         std::replace(name.begin(), name.end(), '-', '_');
-        props.emplace_back("float", "prob_" + name);
+        columns.emplace_back(PlyType::kFloat32, "prob_" + name);
       }
     }
   }
-  if (Status s = out.mesh.open(mesh_ply, comments, plan.vertices, props, plan.faces); !s.isOk()) return s;
+  if (Status s = out.mesh.open(mesh_ply, meshLayout(comments, plan.vertices, columns, plan.faces)); !s.isOk()) {
+    return s;
+  }
   if (!out.with_classes_ply) return Status::ok();
-  return out.class_colours.open(classes_ply, {"ARTEMIS Living Map coloured by class (grey: none of the prompted classes)"},
-                          plan.vertices,
-                          {{"float", "x"}, {"float", "y"}, {"float", "z"}, {"uchar", "red"}, {"uchar", "green"},
-                           {"uchar", "blue"}},
-                          plan.faces);
+  Columns class_columns{{PlyType::kFloat32, "x"}, {PlyType::kFloat32, "y"}, {PlyType::kFloat32, "z"}};
+  class_columns.insert(class_columns.end(), rgb.begin(), rgb.end());
+  return out.class_colours.open(
+      classes_ply,
+      meshLayout({"ARTEMIS Living Map coloured by class (grey: none of the prompted classes)"}, plan.vertices,
+                 class_columns, plan.faces));
 }
 
 // Vertex i of tile t, in both files.

@@ -79,6 +79,9 @@ Result<PlyData> readPly(const std::filesystem::path& path);
 // Writes atomically (to a temporary file next to `path`, then renamed), so that a crash never
 // leaves a half-written mesh. Checks that every property has `count` values (lists: count + 1 offsets).
 Status writePly(const std::filesystem::path& path, const PlyData& data);
+// The header writePly writes for `data` (its format, comments, elements' counts and properties;
+// the values are not looked at): for writers that stream the body themselves.
+std::string plyHeaderText(const PlyData& data);
 
 // Convenience for the common cases: positions (float x y z), optional per-vertex normals
 // (float nx ny nz), colours (uchar red green blue), and triangles (face / vertex_indices).
