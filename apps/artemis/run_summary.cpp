@@ -39,8 +39,10 @@ void printRunSummary(const RunFlags& flags, const pipeline::RunReport& report_va
                carve.median_ms, carve.p95_ms, report->points_carved);
   }
   if (report->tiles_written > 0) {
-    fmt::print("{} tiles written to OUT/tiles ({} left memory during the run); mesh.ply stitched from them\n",
-               report->tiles_written, report->tiles_finished);
+    fmt::print(
+        "{} tiles written to OUT/tiles ({} left memory during the run, {} loaded back when the drive came "
+        "back); mesh.ply stitched from them\n",
+        report->tiles_written, report->tiles_finished, report->tiles_reloaded);
   }
   if (report->points_in_finished_tiles > 0) {
     fmt::print("{} returns fell in tiles already written and were dropped (--evict-distance)\n",

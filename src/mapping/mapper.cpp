@@ -75,6 +75,8 @@ FrameStats Mapper::integrate(const PointCloud& points_L, const Isometry3d& T_W_L
   FrameStats stats;
   stats.points = points_L.size();
   mesh_.beginFrame();
+  mesh_.addChanges(reloaded_);  // the tiles loaded back before this frame
+  reloaded_ = {};
   Stopwatch clock;
   const Eigen::Matrix3f R = T_W_L.linear().cast<float>();
   const Eigen::Vector3f t = T_W_L.translation().cast<float>();

@@ -95,7 +95,7 @@ Result<EvictionStats> Mapper::dropTiles(const std::set<TileKey>& far) {
   Stopwatch clock;
   std::vector<std::uint8_t> gone;
   stats.voxels = voxelsOf(far, &gone).size();
-  if (Status s = writeTiles(far, stats.faces); !s.isOk()) return s;
+  if (Status s = writeTiles(far, stats.faces, true); !s.isOk()) return s;
   stats.write_ms = clock.elapsedMs();
   Stopwatch step;
   stats.tiles = far.size();
@@ -142,9 +142,8 @@ std::size_t Mapper::closeTiles(const std::set<TileKey>& far) {
 }
 
 bool Mapper::cornersIn(const Face& f, const std::set<TileKey>& tiles, bool outside) const {
-  return std::all_of(f.begin(), f.end(), [&](std::uint32_t v) {
-    return tiles.contains(tiles_.tileOf(mesh_.voxels()[v])) != outside;
-  });
+  return std::all_of(f.begin(), f.end(),
+                     [&](std::uint32_t v) { return tiles.contains(tiles_.tileOf(mesh_.voxels()[v])) != outside; });
 }
 
 Result<std::size_t> Mapper::writeRemainingTiles() {
@@ -157,16 +156,20 @@ Result<std::size_t> Mapper::writeRemainingTiles() {
     if (const TileKey t = tiles_.tileOf(k); !tiles_.finished(t)) live.insert(t);
   }
   std::size_t faces = 0;
-  if (Status s = writeTiles(live, faces); !s.isOk()) return s;
+  if (Status s = writeTiles(live, faces, false); !s.isOk()) return s;
   return live.size();
 }
 
-Status Mapper::writeTiles(const std::set<TileKey>& tiles, std::size_t& faces) {
-  // Each tile's vertices (ascending ids: ascending uids) and the voxels owning its faces.
+Status Mapper::writeTiles(const std::set<TileKey>& tiles, std::size_t& faces, bool with_state) {
+  // Each tile's vertices by uid (ids ascend with uids, but for those of tiles loaded back, added
+  // at the end) and the voxels owning its faces.
   std::map<TileKey, std::vector<std::uint32_t>> members;
   const std::vector<VoxelKey>& vertex_voxels = mesh_.voxels();
   for (std::uint32_t v = 0; v < vertex_voxels.size(); ++v) {
     if (const TileKey t = tiles_.tileOf(vertex_voxels[v]); tiles.contains(t)) members[t].push_back(v);
+  }
+  for (auto& [tile, ids] : members) {
+    std::sort(ids.begin(), ids.end(), [&](std::uint32_t a, std::uint32_t b) { return mesh_.uid(a) < mesh_.uid(b); });
   }
   std::map<TileKey, std::vector<VoxelKey>> owners;
   for (const VoxelKey& k : mesh_.faceOwners()) {
@@ -177,7 +180,14 @@ Status Mapper::writeTiles(const std::set<TileKey>& tiles, std::size_t& faces) {
     std::sort(own.begin(), own.end());
     const TileContents contents = tileContents(t, members[t], own);
     faces += contents.faces.size();
-    if (Status s = tiles_.write(contents); !s.isOk()) return s;
+    std::vector<std::byte> state;
+    if (with_state) state = tileState(t, members[t], own, contents);
+    const std::array<std::span<const std::byte>, 1> parts{state};
+    if (Status s = tiles_.write(contents, with_state ? std::span<const std::span<const std::byte>>(parts)
+                                                     : std::span<const std::span<const std::byte>>());
+        !s.isOk()) {
+      return s;
+    }
   }
   return Status::ok();
 }

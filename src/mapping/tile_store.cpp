@@ -2,6 +2,7 @@
 
 #include <fmt/format.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <stdexcept>
@@ -58,9 +59,8 @@ Result<TileContents> readTileFile(const fs::path& path) {
   try {
     if (in.string(64) != kMagic) return parseError(path.string() + ": not an ARTEMIS tile file");
     if (const auto version = in.value<std::uint32_t>(); version != kTileVersion) {
-      return invalidArgument(
-          fmt::format("{}: a tile file of format {}; this version of artemis reads {}", path.string(), version,
-                      kTileVersion));
+      return invalidArgument(fmt::format("{}: a tile file of format {}; this version of artemis reads {}",
+                                         path.string(), version, kTileVersion));
     }
     const auto size = in.value<std::uint64_t>();
     const auto sum = in.value<std::uint64_t>();
@@ -124,35 +124,70 @@ double TileStore::distance(const TileKey& tile, const Eigen::Vector3f& p_W) cons
   return std::hypot(axis(p_W.x(), tile.x), axis(p_W.y(), tile.y));
 }
 
-fs::path TileStore::fileOf(const TileKey& tile) const {
-  return directory_ / fmt::format("tile_{}_{}.bin", tile.x, tile.y);
+fs::path TileStore::fileOf(const TileKey& tile, std::uint32_t generation, const char* kind) const {
+  return directory_ / fmt::format("tile_{}_{}.{}.{}", tile.x, tile.y, generation, kind);
 }
 
-Status TileStore::write(const TileContents& tile) {
+fs::path TileStore::fileOf(const TileKey& tile) const {
+  const auto it = generation_.find(tile);
+  return fileOf(tile, it == generation_.end() ? 0 : it->second, "bin");
+}
+
+fs::path TileStore::stateFileOf(const TileKey& tile) const {
+  const auto it = generation_.find(tile);
+  return fileOf(tile, it == generation_.end() ? 0 : it->second, "state");
+}
+
+std::string TileStore::outputName(const TileKey& tile) {
+  return fmt::format("tile_{}_{}.bin", tile.x, tile.y);
+}
+
+VoxelKey TileStore::clampInto(const TileKey& tile, const VoxelKey& voxel) const {
+  const auto axis = [&](std::int32_t v, std::int32_t k) {
+    return std::clamp(v, k * edge_voxels_, (k + 1) * edge_voxels_ - 1);
+  };
+  return {axis(voxel.x, tile.x), axis(voxel.y, tile.y), voxel.z};
+}
+
+Status TileStore::write(const TileContents& tile, std::span<const std::span<const std::byte>> state) {
   if (finished_.contains(tile.key)) {
     return invalidArgument(fmt::format("{}: the tile was already written", fileOf(tile.key).string()));
   }
   std::error_code ec;
   fs::create_directories(directory_, ec);
   if (ec) return ioError(fmt::format("{}: cannot create the tile folder: {}", directory_.string(), ec.message()));
-  if (Status s = writeTileFile(fileOf(tile.key), tile); !s.isOk()) return s;
+  const std::uint32_t generation = generation_[tile.key] + 1;
+  if (!state.empty()) {
+    if (Status s = io::writeFileAtomic(fileOf(tile.key, generation, "state"), state); !s.isOk()) return s;
+  }
+  if (Status s = writeTileFile(fileOf(tile.key, generation, "bin"), tile); !s.isOk()) return s;
+  generation_[tile.key] = generation;
   finished_.insert(tile.key);
   return Status::ok();
 }
 
 void TileStore::save(ArchiveWriter& out) const {
   out.section("tiles");
-  out.value(static_cast<std::uint64_t>(finished_.size()));
-  for (const TileKey& k : finished_) out.value(k);
+  out.value(static_cast<std::uint64_t>(generation_.size()));
+  for (const auto& [k, generation] : generation_) {
+    out.value(k);
+    out.value(generation);
+    out.value(static_cast<std::uint8_t>(finished_.contains(k)));
+  }
 }
 
 void TileStore::load(ArchiveReader& in) {
   in.section("tiles");
   const auto n = in.value<std::uint64_t>();
   finished_.clear();
+  generation_.clear();
   for (std::uint64_t i = 0; i < n; ++i) {
     const auto k = in.value<TileKey>();
-    if (!fs::is_regular_file(fileOf(k))) in.fail("the finished tile " + fileOf(k).string() + " is missing");
+    generation_[k] = in.value<std::uint32_t>();
+    if (in.value<std::uint8_t>() == 0) continue;
+    for (const fs::path& file : {fileOf(k), stateFileOf(k)}) {
+      if (!fs::is_regular_file(file)) in.fail("the finished tile " + file.string() + " is missing");
+    }
     finished_.insert(k);
   }
 }

@@ -21,7 +21,8 @@ namespace artemis::pipeline {
 inline constexpr const char* kCheckpointFile = "checkpoint.bin";
 inline constexpr const char* kResumeRecordFile = "checkpoint.json";  // RunParams::resume_record_json
 // Raised whenever what a checkpoint holds, or how, changes.
-inline constexpr std::uint32_t kCheckpointVersion = 3;  // 2: point clouds keep per-point times; 3: tiles
+// 2: point clouds keep per-point times; 3: tiles; 4: tiles loaded back (their count, state files)
+inline constexpr std::uint32_t kCheckpointVersion = 4;
 
 // Writes the header, then what `write_state` writes (streamed to the file), then its size and
 // checksum, atomically to `path`. Returns the state's size in bytes.

@@ -144,6 +144,7 @@ bool Run::frame(std::size_t i) {
   const double frame_stamp_s = frame.stamp_s;
   const Isometry3d T_W_L =
       register_.run(frame, prior, poses_.lastPose(), poses_.framesSinceLast(i), poses_.lastStamp(), report_);
+  if (tile_error_ = tiles_.reloadReturned(T_W_L); !tile_error_.isOk()) return false;
   const CameraView* view = segmentedView(frame, params_.semantics.camera);
   FrameSemantics semantics = semantics_.frame(i, frame, view, got.segmented, read_ms);
   const mapping::SemanticInput semantic_input{view, &semantics.observation, params_.semantics.vocabulary};
@@ -160,8 +161,8 @@ bool Run::frame(std::size_t i) {
   logFrame(frame_index, stats);
   const std::set<mapping::TileKey>& leaving = tiles_.closeLeftTiles(i, T_W_L);
   if (params_.observer) {
-    params_.observer({mapper_, i + 1, dataset_.size(), frame_index, T_W_L, refined ? &*refined : nullptr,
-                      report_.times, false, &leaving});
+    params_.observer({mapper_, i + 1, dataset_.size(), frame_index, T_W_L, refined ? &*refined : nullptr, report_.times,
+                      false, &leaving});
   }
   // After the observer, which was handed this frame's voxel indices: dropping tiles renumbers
   // them. The look's time is the frame's.
@@ -374,8 +375,8 @@ Result<RunReport> runPipeline(datasets::Dataset& dataset, const RunParams& param
   run.finish();
   auto tiled = run.finishTiles(folder->staging());
   if (!tiled) return tiled.status();
-  if (Status s = writeRunOutputs(run.mapper(), params, run.trajectory(), odometry != nullptr, folder->staging(),
-                                 report, *tiled);
+  if (Status s = writeRunOutputs(run.mapper(), params, run.trajectory(), odometry != nullptr, folder->staging(), report,
+                                 *tiled);
       !s.isOk()) {
     return s;
   }

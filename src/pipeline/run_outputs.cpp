@@ -125,10 +125,12 @@ std::string timingJson(const RunReport& report) {
   j["points_carved"] = report.points_carved;
   j["holes_filled"] = report.holes_filled;
   j["tiles"] = {{"finished_during_run", report.tiles_finished},
+                {"reloaded", report.tiles_reloaded},
                 {"in_memory_at_last_look", report.tiles_in_memory},
                 {"files", report.tiles_written},
                 {"points_in_finished_tiles", report.points_in_finished_tiles},
-                {"dangling_faces", report.dangling_faces}};
+                {"dangling_faces", report.dangling_faces},
+                {"repeated_faces", report.repeated_faces}};
   j["checkpoints"] = {{"written", report.checkpoints},
                       {"last_mb", report.checkpoint_mb},
                       {"max_ms", report.checkpoint_max_ms},
@@ -188,9 +190,12 @@ std::string semanticsJson(const RunReport& report, const RunParams& params) {
   j["segment_every"] = sem.segment_every;
   j["vertices_labelled"] = report.vertices_labelled;
   const mapping::SemanticFusionParams& f = params.mapper.semantics;
-  j["fusion"] = {{"sigma_depth_m", f.sigma_depth_m},       {"depth_window_px", f.depth_window_px},
-                 {"background_score", f.background_score}, {"confidence_lambda", f.confidence_lambda},
-                 {"voxel_prior", f.voxel_prior},           {"geometric_prior", f.geometry.enabled},
+  j["fusion"] = {{"sigma_depth_m", f.sigma_depth_m},
+                 {"depth_window_px", f.depth_window_px},
+                 {"background_score", f.background_score},
+                 {"confidence_lambda", f.confidence_lambda},
+                 {"voxel_prior", f.voxel_prior},
+                 {"geometric_prior", f.geometry.enabled},
                  {"silhouette_radius_px", f.geometry.silhouettes.radius_px}};
   return j.dump(1) + "\n";
 }

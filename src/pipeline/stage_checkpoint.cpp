@@ -104,9 +104,9 @@ void saveReport(ArchiveWriter& out, const RunReport& r) {
   out.section("report");
   for (const std::size_t n :
        {r.frames, r.frames_failed, r.faces_cut, r.points_in_vehicle_path, r.points_carved, r.points_in_finished_tiles,
-        r.tiles_finished, r.tiles_in_memory, r.registration_fallbacks,
-        r.degenerate_frames, r.frames_observed, r.frames_unobserved, r.frames_not_due, r.frames_busy, r.frames_late,
-        r.frames_textured, r.frames_semantic_refined}) {
+        r.tiles_finished, r.tiles_reloaded, r.tiles_in_memory, r.registration_fallbacks, r.degenerate_frames,
+        r.frames_observed, r.frames_unobserved, r.frames_not_due, r.frames_busy, r.frames_late, r.frames_textured,
+        r.frames_semantic_refined}) {
     out.value(static_cast<std::uint64_t>(n));
   }
   r.times.save(out);
@@ -137,7 +137,7 @@ void loadReport(ArchiveReader& in, RunReport& r) {
   in.section("report");
   for (std::size_t* n :
        {&r.frames, &r.frames_failed, &r.faces_cut, &r.points_in_vehicle_path, &r.points_carved,
-        &r.points_in_finished_tiles, &r.tiles_finished, &r.tiles_in_memory,
+        &r.points_in_finished_tiles, &r.tiles_finished, &r.tiles_reloaded, &r.tiles_in_memory,
         &r.registration_fallbacks, &r.degenerate_frames, &r.frames_observed, &r.frames_unobserved, &r.frames_not_due,
         &r.frames_busy, &r.frames_late, &r.frames_textured, &r.frames_semantic_refined}) {
     *n = static_cast<std::size_t>(in.value<std::uint64_t>());

@@ -21,6 +21,22 @@ TileStep::TileStep(mapping::Mapper& mapper, RefinementStage& stage2, RunReport& 
   mapper_.setTileDirectory(folder_);
 }
 
+Status TileStep::reloadReturned(const Isometry3d& T_W_L) {
+  if (!mapper_.tiles().anyFinished()) return Status::ok();
+  const std::set<mapping::TileKey> back = mapper_.returnedTiles(T_W_L.translation().cast<float>());
+  if (back.empty()) return Status::ok();
+  auto reloaded = mapper_.reloadTiles(back);
+  if (!reloaded) return reloaded.status();
+  report_.tiles_reloaded += reloaded->tiles;
+  report_.times.add("reload", reloaded->ms);
+  log::debug(
+      "tiles: {} loaded back ({} voxels, {} vertices of which {} were in memory, {} faces, {} vertices of finished "
+      "tiles across their borders, {} faces left out); {:.1f} ms",
+      reloaded->tiles, reloaded->voxels, reloaded->vertices, reloaded->merged, reloaded->faces, reloaded->ghosts,
+      reloaded->faces_dropped, reloaded->ms);
+  return Status::ok();
+}
+
 const std::set<mapping::TileKey>& TileStep::closeLeftTiles(std::size_t i, const Isometry3d& T_W_L) {
   closing_.clear();
   look_ms_ = 0.0;
@@ -65,6 +81,7 @@ Result<bool> TileStep::finish(const fs::path& staging, const SemanticPlyOptions*
   report_.vertices = stitched->vertices;
   report_.faces = stitched->faces;
   report_.dangling_faces = stitched->dangling_faces;
+  report_.repeated_faces = stitched->repeated_faces;
   report_.vertices_labelled = stitched->vertices_labelled;
   if (stitched->dangling_faces > 0) {
     log::warn("tiles: {} faces across a tile border named a vertex no tile held and were left out",
@@ -75,10 +92,13 @@ Result<bool> TileStep::finish(const fs::path& staging, const SemanticPlyOptions*
   const fs::path to = staging / "tiles";
   std::error_code ec;
   fs::create_directories(to, ec);
-  for (const fs::directory_entry& e : fs::directory_iterator(folder_, ec)) {
+  // Each tile's last file (state files and earlier files of tiles written again served the run).
+  for (const mapping::TileKey& t : mapper_.tiles().finishedTiles()) {
+    const fs::path from = mapper_.tiles().fileOf(t);
+    const fs::path name = to / mapping::TileStore::outputName(t);
     std::error_code link_ec;
-    fs::create_hard_link(e.path(), to / e.path().filename(), link_ec);
-    if (link_ec) fs::copy_file(e.path(), to / e.path().filename(), fs::copy_options::overwrite_existing, ec);
+    fs::create_hard_link(from, name, link_ec);
+    if (link_ec) fs::copy_file(from, name, fs::copy_options::overwrite_existing, ec);
     if (ec) break;
   }
   if (ec) return ioError(fmt::format("{}: cannot put the tiles into the outputs: {}", folder_.string(), ec.message()));

@@ -6,8 +6,9 @@
 // (a short drive) writes its mesh from memory as before.
 //
 // While the run goes on the tile files live in OUT/.tiles-running (kept by a killed run for its
-// --resume, removed by a fresh run); with the outputs they become OUT/tiles (linked), and the
-// running folder goes once the outputs are in place.
+// --resume, removed by a fresh run), with the state files that a later visit loads back; with the
+// outputs the tile files become OUT/tiles (linked), and the running folder, state files with it,
+// goes once the outputs are in place.
 
 #include <filesystem>
 #include <set>
@@ -28,6 +29,10 @@ class TileStep {
   // run left there.
   TileStep(mapping::Mapper& mapper, RefinementStage& stage2, RunReport& report, const std::filesystem::path& out,
            bool resumed);
+
+  // Before a frame is mapped at T_W_L: loads back the finished tiles the sensor came back to
+  // (Mapper::returnedTiles); their time is the frame's ("reload").
+  Status reloadReturned(const Isometry3d& T_W_L);
 
   // After the range's i-th frame (mapped at T_W_L), every check_every frames: finds the tiles left
   // behind and closes them (their last changes go to the mesh's change log: the observer shows

@@ -7,6 +7,7 @@
 #include <map>
 #include <set>
 #include <string>
+#include <tuple>
 #include <utility>
 #include <vector>
 
@@ -24,12 +25,24 @@ namespace {
 
 using VertexName = std::pair<TileKey, std::uint64_t>;  // a tile and a vertex uid
 
+// A face by its corners' names, and where it is: its tile and its index there.
+struct NamedFace {
+  std::array<VertexName, 3> corners;
+  TileKey tile;
+  std::uint32_t index = 0;
+};
+
 // What the passes over the tiles work out before anything is written.
 struct Plan {
   std::vector<TileKey> tiles;
   std::map<TileKey, std::set<std::uint64_t>> wanted;  // vertices that other tiles' faces use
   std::map<VertexName, std::uint32_t> index_of;       // their index in the file
-  std::vector<std::array<VertexName, 3>> border;      // faces with a corner in another tile
+  std::vector<NamedFace> border;                      // faces with a corner in another tile
+  // Faces of a tile's own vertices that other tiles name too: a face across a border may be in
+  // both tiles' files (see repeatedFaces).
+  std::vector<NamedFace> named_inner;
+  std::map<TileKey, std::set<std::uint32_t>> repeated;  // faces (by index) written by an earlier tile
+  std::size_t repeated_faces = 0;
   std::size_t inner_faces = 0;
   bool textured = false;
   std::vector<semantics::ClassId> slots;  // the latest tile's (slots are only ever added)
@@ -57,7 +70,9 @@ std::vector<std::uint8_t> usedVertices(const TileContents& t, const Plan& plan) 
     }
   }
   if (const auto it = plan.wanted.find(t.key); it != plan.wanted.end()) {
-    for (std::size_t i = 0; i < t.uids.size(); ++i) if (it->second.contains(t.uids[i])) used[i] = 1;
+    for (std::size_t i = 0; i < t.uids.size(); ++i) {
+      if (it->second.contains(t.uids[i])) used[i] = 1;
+    }
   }
   return used;
 }
@@ -75,7 +90,9 @@ Status planNames(const mapping::TileStore& store, Plan& plan) {
         ++plan.inner_faces;
         continue;
       }
-      plan.border.push_back({nameOf(*t, f[0]), nameOf(*t, f[1]), nameOf(*t, f[2])});
+      plan.border.push_back({{nameOf(*t, f[0]), nameOf(*t, f[1]), nameOf(*t, f[2])},
+                             key,
+                             static_cast<std::uint32_t>(&f - t->faces.data())});
       for (const std::uint32_t c : f) {  // named in the border face: its index is looked up by name
         if (c < TileContents::kExternal) plan.wanted[key].insert(t->uids[c]);
       }
@@ -91,22 +108,65 @@ Status planIndices(const mapping::TileStore& store, Plan& plan) {
     auto t = readTile(store, key);
     if (!t) return t.status();
     const std::vector<std::uint8_t> used = usedVertices(*t, plan);
+    std::vector<std::uint8_t> named(used.size(), 0);
     for (std::size_t i = 0; i < used.size(); ++i) {
       if (used[i] == 0) continue;
       if (plan.wanted.contains(key) && plan.wanted[key].contains(t->uids[i])) {
         plan.index_of[{key, t->uids[i]}] = next;
+        named[i] = 1;
       }
       ++next;
+    }
+    for (std::size_t k = 0; k < t->faces.size(); ++k) {
+      const Face& f = t->faces[k];
+      const bool inner = std::all_of(f.begin(), f.end(), [](std::uint32_t c) { return c < TileContents::kExternal; });
+      if (inner && named[f[0]] != 0 && named[f[1]] != 0 && named[f[2]] != 0) {
+        plan.named_inner.push_back(
+            {{nameOf(*t, f[0]), nameOf(*t, f[1]), nameOf(*t, f[2])}, key, static_cast<std::uint32_t>(k)});
+      }
     }
   }
   plan.vertices = next;
   plan.faces = plan.inner_faces;
-  for (const auto& f : plan.border) {
-    const bool whole = plan.index_of.contains(f[0]) && plan.index_of.contains(f[1]) && plan.index_of.contains(f[2]);
+  for (const NamedFace& f : plan.border) {
+    const auto& c = f.corners;
+    const bool whole = plan.index_of.contains(c[0]) && plan.index_of.contains(c[1]) && plan.index_of.contains(c[2]);
     plan.faces += whole ? 1 : 0;
     plan.dangling += whole ? 0 : 1;
   }
   return Status::ok();
+}
+
+// A face across a tile border can be in both tiles' files: a tile that the drive came back to was
+// meshed again along its border, where its finished neighbour, on disk, was not; the constraint
+// had moved the corners a little, so that the face's centroid, which names its owner, crossed the
+// border. The mesh keeps its first copy (tiles in key order).
+void repeatedFaces(Plan& plan) {
+  struct Entry {
+    std::array<VertexName, 3> sorted;
+    const NamedFace* face;
+  };
+  std::vector<Entry> all;
+  all.reserve(plan.border.size() + plan.named_inner.size());
+  for (const std::vector<NamedFace>* list : {&plan.border, &plan.named_inner}) {
+    for (const NamedFace& f : *list) {
+      all.push_back({f.corners, &f});
+      std::sort(all.back().sorted.begin(), all.back().sorted.end());
+    }
+  }
+  std::sort(all.begin(), all.end(), [](const Entry& a, const Entry& b) {
+    return std::tie(a.sorted, a.face->tile, a.face->index) < std::tie(b.sorted, b.face->tile, b.face->index);
+  });
+  for (std::size_t i = 1; i < all.size(); ++i) {
+    if (all[i].sorted != all[i - 1].sorted) continue;
+    const auto& c = all[i].sorted;
+    const bool written = plan.index_of.contains(c[0]) && plan.index_of.contains(c[1]) && plan.index_of.contains(c[2]);
+    if (!written) continue;  // dangling (a repeat of it would be too)
+    plan.repeated[all[i].face->tile].insert(all[i].face->index);
+    ++plan.repeated_faces;
+    --plan.faces;
+  }
+  plan.named_inner.clear();
 }
 
 // The layout of a mesh file: `vertices` with `properties` (type, name), `faces` of three int indices.
@@ -140,7 +200,8 @@ class PlyStream {
   }
   template <typename T>
   void put(const T& v) {
-    buffer_.append(reinterpret_cast<const char*>(&v), sizeof(T));  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast)
+    buffer_.append(reinterpret_cast<const char*>(&v),
+                   sizeof(T));  // NOLINT(cppcoreguidelines-pro-type-reinterpret-cast)
   }
   Status flushIfFull() { return buffer_.size() >= (std::size_t{1} << 20) ? flush() : Status::ok(); }
   Status close() {
@@ -191,9 +252,8 @@ Status openOutputs(const Plan& plan, const fs::path& mesh_ply, const fs::path& c
   Columns class_columns{{PlyType::kFloat32, "x"}, {PlyType::kFloat32, "y"}, {PlyType::kFloat32, "z"}};
   class_columns.insert(class_columns.end(), rgb.begin(), rgb.end());
   return out.class_colours.open(
-      classes_ply,
-      meshLayout({"ARTEMIS Living Map coloured by class (grey: none of the prompted classes)"}, plan.vertices,
-                 class_columns, plan.faces));
+      classes_ply, meshLayout({"ARTEMIS Living Map coloured by class (grey: none of the prompted classes)"},
+                              plan.vertices, class_columns, plan.faces));
 }
 
 // Vertex i of tile t, in both files.
@@ -244,7 +304,10 @@ Status writeFaces(const mapping::TileStore& store, const Plan& plan, Outputs& ou
     std::vector<std::uint32_t> index(used.size(), 0);
     std::uint32_t next = base;
     for (std::size_t i = 0; i < used.size(); ++i) index[i] = used[i] != 0 ? next++ : 0;
-    for (const Face& f : t->faces) {
+    const auto repeated = plan.repeated.find(key);
+    for (std::size_t k = 0; k < t->faces.size(); ++k) {
+      if (repeated != plan.repeated.end() && repeated->second.contains(static_cast<std::uint32_t>(k))) continue;
+      const Face& f = t->faces[k];
       std::array<std::int32_t, 3> corners{};
       bool whole = true;
       for (std::size_t k = 0; k < 3 && whole; ++k) {
@@ -280,15 +343,16 @@ Result<StitchReport> writeTiledMesh(const mapping::TileStore& tiles, const fs::p
   plan.tiles.assign(tiles.finishedTiles().begin(), tiles.finishedTiles().end());
   if (Status s = planNames(tiles, plan); !s.isOk()) return s;
   if (Status s = planIndices(tiles, plan); !s.isOk()) return s;
+  repeatedFaces(plan);
   if (plan.vertices >= (std::size_t{1} << 31)) {
-    return invalidArgument(fmt::format("{}: {} vertices are more than a PLY int index holds", mesh_ply.string(),
-                                       plan.vertices));
+    return invalidArgument(
+        fmt::format("{}: {} vertices are more than a PLY int index holds", mesh_ply.string(), plan.vertices));
   }
   Outputs out;
   out.semantics = semantics;
   out.with_classes_ply = out.classes() && !classes_ply.empty();
   if (Status s = openOutputs(plan, mesh_ply, classes_ply, out); !s.isOk()) return s;
-  StitchReport report{plan.tiles.size(), plan.vertices, plan.faces, plan.dangling, 0};
+  StitchReport report{plan.tiles.size(), plan.vertices, plan.faces, plan.dangling, plan.repeated_faces, 0};
   if (Status s = writeVertices(tiles, plan, out, report); !s.isOk()) return s;
   if (Status s = writeFaces(tiles, plan, out); !s.isOk()) return s;
   if (Status s = out.mesh.close(); !s.isOk()) return s;

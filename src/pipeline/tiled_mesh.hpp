@@ -19,6 +19,7 @@ struct StitchReport {
   std::size_t vertices = 0;
   std::size_t faces = 0;
   std::size_t dangling_faces = 0;     // left out: a corner names a vertex no tile holds
+  std::size_t repeated_faces = 0;     // left out: an earlier tile's file holds the same face
   std::size_t vertices_labelled = 0;  // written vertices with a class
 };
 

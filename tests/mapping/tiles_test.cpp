@@ -1,10 +1,14 @@
 // Tiles leaving memory: the voxel map and the mesh drop what leaves and renumber what stays, tile
-// files read back as written (and refuse damage), and the mapper writes the tiles a drive has left.
+// files read back as written (and refuse damage), the mapper writes the tiles a drive has left,
+// and loads them back, whole, when the drive comes back.
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <array>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
+#include <set>
 #include <vector>
 
 #include "artemis/mapping/mapper.hpp"
@@ -157,6 +161,7 @@ TEST(Tiles, TheMapperWritesTheTilesTheDriveLeftAndDropsTheirReturns) {
   std::size_t files = 0;
   std::size_t written = 0;
   for (const auto& entry : fs::directory_iterator(tmp / "tiles")) {
+    if (entry.path().extension() != ".bin") continue;  // and a state file beside each
     ++files;
     const auto t = readTileFile(entry.path());
     ASSERT_TRUE(t) << t.status().message();
@@ -172,6 +177,85 @@ TEST(Tiles, TheMapperWritesTheTilesTheDriveLeftAndDropsTheirReturns) {
   auto none = mapper.evictTiles({Eigen::Vector3f(0, 0, 0)});
   ASSERT_TRUE(none);
   EXPECT_EQ(none->tiles, 0U);
+}
+
+// Every face as its three corners' uids, sorted: the same surface whatever the ids.
+std::set<std::array<std::uint64_t, 3>> facesByUid(const SemanticMesh& mesh) {
+  std::set<std::array<std::uint64_t, 3>> out;
+  for (const Face& f : mesh.faces()) {
+    std::array<std::uint64_t, 3> u{mesh.uid(f[0]), mesh.uid(f[1]), mesh.uid(f[2])};
+    std::sort(u.begin(), u.end());
+    out.insert(u);
+  }
+  return out;
+}
+
+TEST(Tiles, ADriveThatComesBackLoadsItsTilesWholeAndMapsThemOn) {
+  ::artemis::test::TempDir tmp;
+  MapperParams params;
+  params.tiles.edge_m = 6.4;
+  params.tiles.evict_distance_m = 90.0;
+  params.threads = 1;
+  Mapper mapper(params);
+  mapper.setTileDirectory(tmp / "tiles");
+  PointCloud scan;
+  scan.points = strip(0.0f, 40.0f);
+  for (Eigen::Vector3f& p : scan.points) p.z() -= 1.7f;
+  const Isometry3d at_strip(Eigen::Translation3d(0, 0, 1.7));
+  mapper.integrate(scan, at_strip);
+  const std::size_t vertices = mapper.mesh().vertexCount();
+  const std::size_t voxels = mapper.voxels().size();
+  const auto faces = facesByUid(mapper.mesh());
+  ASSERT_GT(faces.size(), 1000U);
+  ASSERT_TRUE(mapper.evictTiles({Eigen::Vector3f(140.0f, 0, 0)}));
+  ASSERT_EQ(mapper.mesh().vertexCount(), 0U);
+  // Far away, nothing comes back; at the strip, every tile does (within 90 - 6.4 m).
+  EXPECT_TRUE(mapper.returnedTiles(Eigen::Vector3f(140.0f, 0, 0)).empty());
+  const std::set<TileKey> back = mapper.returnedTiles(Eigen::Vector3f(0, 0, 0));
+  EXPECT_EQ(back.size(), 7U);
+  auto reloaded = mapper.reloadTiles(back);
+  ASSERT_TRUE(reloaded) << reloaded.status().message();
+  EXPECT_EQ(reloaded->tiles, 7U);
+  EXPECT_EQ(reloaded->vertices, vertices);
+  EXPECT_EQ(reloaded->voxels, voxels);
+  EXPECT_EQ(reloaded->faces_dropped, 0U);
+  EXPECT_EQ(mapper.mesh().vertexCount(), vertices);
+  EXPECT_EQ(mapper.voxels().size(), voxels);
+  EXPECT_EQ(facesByUid(mapper.mesh()), faces);
+  EXPECT_FALSE(mapper.tiles().anyFinished());
+  // The next frame's change log shows them; the same returns again are hits, not new points.
+  const FrameStats again = mapper.integrate(scan, at_strip);
+  EXPECT_EQ(again.points_in_finished_tiles, 0U);
+  EXPECT_EQ(again.points_kept, 0U);
+  EXPECT_GE(mapper.mesh().changes().voxels.size(), voxels / 2);
+  EXPECT_EQ(mapper.mesh().vertexCount(), vertices);
+  // They leave again, their files written anew.
+  auto evicted = mapper.evictTiles({Eigen::Vector3f(140.0f, 0, 0)});
+  ASSERT_TRUE(evicted) << evicted.status().message();
+  EXPECT_EQ(evicted->tiles, 7U);
+  EXPECT_EQ(evicted->vertices, vertices);
+}
+
+TEST(Tiles, ADamagedStateFileIsNamedWhenTheDriveComesBack) {
+  ::artemis::test::TempDir tmp;
+  MapperParams params;
+  params.tiles.edge_m = 6.4;
+  params.tiles.evict_distance_m = 90.0;
+  params.threads = 1;
+  Mapper mapper(params);
+  mapper.setTileDirectory(tmp / "tiles");
+  PointCloud scan;
+  scan.points = strip(0.0f, 10.0f);
+  mapper.integrate(scan, Isometry3d(Eigen::Translation3d(0, 0, 1.7)));
+  ASSERT_TRUE(mapper.evictTiles({Eigen::Vector3f(140.0f, 0, 0)}));
+  const std::set<TileKey> back = mapper.returnedTiles(Eigen::Vector3f(0, 0, 0));
+  ASSERT_FALSE(back.empty());
+  const fs::path state = mapper.tiles().stateFileOf(*back.begin());
+  ASSERT_TRUE(fs::exists(state));
+  fs::resize_file(state, fs::file_size(state) - 7);
+  auto reloaded = mapper.reloadTiles(back);
+  ASSERT_FALSE(reloaded);
+  EXPECT_NE(reloaded.status().message().find(state.string()), std::string::npos) << reloaded.status().message();
 }
 
 }  // namespace

@@ -202,11 +202,11 @@ class ArchiveReader {
 
   [[nodiscard]] bool atEnd() const { return at_ == bytes_.size(); }
   [[nodiscard]] std::size_t position() const { return at_; }
+  [[nodiscard]] std::size_t remaining() const { return bytes_.size() - at_; }
   [[nodiscard]] const std::string& source() const { return source_; }
   [[noreturn]] void fail(const std::string& what) const { throw ArchiveError(source_ + ": " + what); }
 
  private:
-  [[nodiscard]] std::size_t remaining() const { return bytes_.size() - at_; }
   void raw(void* p, std::size_t n) {
     if (n > remaining()) fail("ends early (truncated at byte " + std::to_string(bytes_.size()) + ")");
     if (n > 0) std::memcpy(p, bytes_.data() + at_, n);

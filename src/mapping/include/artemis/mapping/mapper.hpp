@@ -56,17 +56,17 @@ struct MapperParams {
 struct FrameStats {
   double insert_ms = 0.0;
   double mesh_ms = 0.0;
-  double fuse_ms = 0.0;                    // semantic fusion (1b), when the frame came with an observation
-  double constrain_ms = 0.0;               // semantic constraint (1d): cutting faces and moving vertices
-  double carve_ms = 0.0;                   // free space: counting misses and removing what was seen through
-  std::size_t points = 0;                  // points given
-  std::size_t points_kept = 0;             // new mesh vertices
-  std::size_t points_in_vehicle_path = 0;  // dropped: inside the vehicle's box at this or an earlier pose
+  double fuse_ms = 0.0;                      // semantic fusion (1b), when the frame came with an observation
+  double constrain_ms = 0.0;                 // semantic constraint (1d): cutting faces and moving vertices
+  double carve_ms = 0.0;                     // free space: counting misses and removing what was seen through
+  std::size_t points = 0;                    // points given
+  std::size_t points_kept = 0;               // new mesh vertices
+  std::size_t points_in_vehicle_path = 0;    // dropped: inside the vehicle's box at this or an earlier pose
   std::size_t points_in_finished_tiles = 0;  // dropped: in a tile already written (TileStore)
-  std::size_t points_carved = 0;           // kept points removed as free space (rays and vehicle box)
-  std::size_t points_tested_free = 0;      // kept points tested against rays for free space
-  std::size_t active_voxels = 0;           // voxels that gained points
-  std::size_t meshed_voxels = 0;           // voxels re-meshed this frame
+  std::size_t points_carved = 0;             // kept points removed as free space (rays and vehicle box)
+  std::size_t points_tested_free = 0;        // kept points tested against rays for free space
+  std::size_t active_voxels = 0;             // voxels that gained points
+  std::size_t meshed_voxels = 0;             // voxels re-meshed this frame
   std::size_t semantic_observations = 0;
   std::size_t faces_cut = 0;   // faces the semantic constraint cut (1d)
   ConstraintStats constraint;  // the semantic constraint's patch, solve and times (1d)
@@ -74,18 +74,30 @@ struct FrameStats {
 
 // What Mapper::evictTiles did.
 struct EvictionStats {
-  std::size_t tiles = 0;     // tiles written and dropped from memory
+  std::size_t tiles = 0;            // tiles written and dropped from memory
   std::size_t tiles_in_memory = 0;  // the others
-  std::size_t voxels = 0;    // their voxels
-  std::size_t vertices = 0;  // vertices dropped from memory
-  std::size_t faces = 0;     // faces written
-  std::size_t meshed_voxels = 0;  // voxels meshed before writing (pending, as finish() would)
+  std::size_t voxels = 0;           // their voxels
+  std::size_t vertices = 0;         // vertices dropped from memory
+  std::size_t faces = 0;            // faces written
+  std::size_t meshed_voxels = 0;    // voxels meshed before writing (pending, as finish() would)
   double ms = 0.0;
   double close_ms = 0.0;  // meshing and closing holes before they leave
   double write_ms = 0.0;  // the tile files
   double drop_ms = 0.0;   // renumbering what stays
   // Old vertex id -> new (SemanticMesh::kGone for a vertex that left); empty when nothing left.
   std::vector<std::uint32_t> new_id;
+};
+
+// What loading finished tiles back cost and brought (Mapper::reloadTiles).
+struct ReloadStats {
+  std::size_t tiles = 0;
+  std::size_t voxels = 0;
+  std::size_t vertices = 0;       // loaded, merged ones included
+  std::size_t merged = 0;         // of them, vertices a face in memory had kept there
+  std::size_t faces = 0;          // faces back in memory
+  std::size_t ghosts = 0;         // vertices of finished tiles across their borders, loaded for those faces
+  std::size_t faces_dropped = 0;  // faces naming a vertex no tile holds any more (carved since)
+  double ms = 0.0;
 };
 
 // A frame's segmented camera view, for semantic fusion.
@@ -140,6 +152,14 @@ class Mapper {
   // After finish(), when tiles were finished: writes every tile still in memory, so that the tile
   // files hold the whole map. Returns how many it wrote.
   Result<std::size_t> writeRemainingTiles();
+  // The finished tiles within TileStore::reloadDistanceM() of the sensor at sensor_W.
+  [[nodiscard]] std::set<TileKey> returnedTiles(const Eigen::Vector3f& sensor_W) const;
+  // Loads finished tiles back from their state files (written when they left), whole: voxels,
+  // vertices with their colour and class evidence, and faces, stitched to what is in memory by
+  // vertex uid. They are mapped on as if they had never left (their vertices get new ids, at the
+  // end). The change log of the next integrate() lists their voxels. Fails on a missing or damaged
+  // state file, naming it.
+  Result<ReloadStats> reloadTiles(const std::set<TileKey>& tiles);
   // What finish() closed.
   [[nodiscard]] const HoleFillStats& holeFilling() const { return hole_stats_; }
 
@@ -176,11 +196,17 @@ class Mapper {
   [[nodiscard]] std::vector<VoxelKey> voxelsOf(const std::set<TileKey>& tiles, std::vector<std::uint8_t>* gone) const;
   // Tiles: drops the returns that fall in finished tiles (sets drop_); returns how many.
   std::size_t dropInFinishedTiles(const std::vector<Eigen::Vector3f>& points_W);
-  // Writes `tiles` (their vertices and the faces their voxels own); adds the faces written to `faces`.
-  Status writeTiles(const std::set<TileKey>& tiles, std::size_t& faces);
-  // The tile's contents: its vertices `members` (ascending ids) and the faces of `owners`.
+  // Writes `tiles` (their vertices and the faces their voxels own), and with `with_state` their
+  // state files, for a later visit; adds the faces written to `faces`.
+  Status writeTiles(const std::set<TileKey>& tiles, std::size_t& faces, bool with_state);
+  // The tile's contents: its vertices `members` (ascending uids) and the faces of `owners`.
   [[nodiscard]] TileContents tileContents(const TileKey& tile, const std::vector<std::uint32_t>& members,
                                           const std::vector<VoxelKey>& owners) const;
+  // The tile's state file: its vertices `members` and voxels whole, and the faces of `owners` as
+  // `contents` numbers them (tile_reload.cpp).
+  [[nodiscard]] std::vector<std::byte> tileState(const TileKey& tile, const std::vector<std::uint32_t>& members,
+                                                 const std::vector<VoxelKey>& owners,
+                                                 const TileContents& contents) const;
   // Drops the voxels flagged `gone` and their faces, and the vertices of finished tiles that no
   // face in memory uses; fills `stats`.
   void dropFinished(const std::vector<std::uint8_t>& gone, EvictionStats& stats);
@@ -198,6 +224,7 @@ class Mapper {
   TileStore tiles_;
   std::vector<Eigen::Vector3f> points_W_;
   std::vector<std::uint8_t> drop_;
+  SemanticMesh::Changes reloaded_;  // what reloadTiles changed, for the next frame's change log
   struct Arena;
   std::unique_ptr<Arena> arena_;
 };

@@ -22,6 +22,7 @@
 
 #include <array>
 #include <cstdint>
+#include <functional>
 #include <unordered_map>
 #include <vector>
 
@@ -163,6 +164,25 @@ class SemanticMesh {
   // vertex whose voxel is gone gets kNoVoxel, and the evidence of the gone voxels goes with them.
   static constexpr std::uint32_t kGone = 0xFFFFFFFFu;
   void compactVertices(const std::vector<std::uint32_t>& new_id, const std::vector<std::uint32_t>& voxel_new_id);
+
+  // Tiles coming back (tile_state.cpp). saveVertices writes every per-vertex value of vertices
+  // `ids`, in that order; loadVertices reads them back: file vertex i overwrites the vertex
+  // `existing(uid)` names (one that stayed in memory for a face that used it), or is added when
+  // that is kGone. Returns the ids in file order; their voxel index is kNoVoxel until set.
+  // Classes the file has and this mesh lacks are added. Both throw ArchiveError (load: on damage).
+  void saveVertices(ArchiveWriter& out, const std::vector<std::uint32_t>& ids) const;
+  std::vector<std::uint32_t> loadVertices(ArchiveReader& in,
+                                          const std::function<std::uint32_t(std::uint64_t)>& existing);
+  void setVoxelIndex(std::uint32_t v, std::uint32_t voxel_index) { voxel_index_[v] = voxel_index; }
+  // The semantic evidence of voxels `voxels` (VoxelMap indices), and back into other indices.
+  void saveVoxelSemantics(ArchiveWriter& out, const std::vector<std::uint32_t>& voxels) const;
+  void loadVoxelSemantics(ArchiveReader& in, const std::vector<std::uint32_t>& voxels);
+  // A vertex of a finished tile that a face in memory uses (voxel index kNoVoxel), as its tile file
+  // holds it: position, normal and, when `colour` is given, its colour (linear RGB).
+  std::uint32_t addGhost(const Eigen::Vector3f& p_W, const Eigen::Vector3f& normal, const VoxelKey& voxel,
+                         std::uint64_t uid, const Eigen::Vector3f* colour);
+  // Adds `more` to this frame's change log.
+  void addChanges(const Changes& more);
 
   // Checkpoints (mapping/checkpoint.cpp): every vertex, face and weight; load() into an empty mesh
   // with the same voxel prior and stage-one weight (set from the same params). After load() the

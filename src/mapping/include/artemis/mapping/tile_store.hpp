@@ -3,8 +3,8 @@
 // long drive's memory stays bounded. A tile the sensor and every view still waiting for stage 2
 // have left by more than evict_distance_m is finished: the mapper writes what the final mesh needs
 // of it to a tile file and drops it from memory (Mapper::evictTiles). Returns that later fall in a
-// finished tile are dropped and counted: a drive that comes back to a finished place keeps the
-// surface it mapped there first.
+// finished tile are dropped and counted; a finished tile that the drive comes back to (within
+// reloadDistanceM()) is loaded again from its state file, whole, and goes on being mapped.
 //
 // A tile file holds the tile's vertices (those whose voxel lies in it) with their uid
 // (SemanticMesh::uid), position, normal, colour, class, confidence and class distribution, and the
@@ -15,7 +15,10 @@
 #include <array>
 #include <cstdint>
 #include <filesystem>
+#include <map>
 #include <set>
+#include <span>
+#include <string>
 #include <vector>
 
 #include <Eigen/Core>
@@ -96,13 +99,30 @@ class TileStore {
   [[nodiscard]] TileKey tileOf(const VoxelKey& voxel) const;
   // Horizontal distance from p_W to the tile's square (0 inside).
   [[nodiscard]] double distance(const TileKey& tile, const Eigen::Vector3f& p_W) const;
+  // The tile's file as last written, and its state file (Mapper::reloadTiles) beside it. Each time
+  // a tile is written it gets new files (its generation, in their names), so that a run resumed
+  // from a checkpoint taken before the drive came back to the tile and wrote it again still finds
+  // the files that checkpoint knows. The outputs name the last ones tile_X_Y.bin (outputName).
   [[nodiscard]] std::filesystem::path fileOf(const TileKey& tile) const;
+  [[nodiscard]] std::filesystem::path stateFileOf(const TileKey& tile) const;
+  [[nodiscard]] static std::string outputName(const TileKey& tile);
+  // The tile's edge (m), whole blocks.
+  [[nodiscard]] double edgeM() const { return edge_voxels_ * voxel_size_m_; }
+  // A finished tile is loaded again once the sensor comes within this distance (m) of it: one tile
+  // edge nearer than the eviction distance, so that a tile on the edge does not leave and come back
+  // at every look.
+  [[nodiscard]] double reloadDistanceM() const { return params_.evict_distance_m - edgeM(); }
+  // The voxel of the tile nearest to `voxel` (itself when it lies in the tile).
+  [[nodiscard]] VoxelKey clampInto(const TileKey& tile, const VoxelKey& voxel) const;
 
   [[nodiscard]] bool finished(const TileKey& tile) const { return finished_.contains(tile); }
   [[nodiscard]] bool anyFinished() const { return !finished_.empty(); }
   [[nodiscard]] const std::set<TileKey>& finishedTiles() const { return finished_; }
   // Writes the tile's file (atomically) and counts the tile finished.
-  Status write(const TileContents& tile);
+  // With `state` (the bytes of a state file), writes that first.
+  Status write(const TileContents& tile, std::span<const std::span<const std::byte>> state = {});
+  // The drive came back: the tile is in memory again (its files stay until it is written again).
+  void reopen(const TileKey& tile) { finished_.erase(tile); }
 
   // Checkpoints: which tiles are finished (their files are checked to exist on load).
   void save(ArchiveWriter& out) const;
@@ -114,6 +134,8 @@ class TileStore {
   double voxel_size_m_;
   std::filesystem::path directory_;
   std::set<TileKey> finished_;
+  std::map<TileKey, std::uint32_t> generation_;  // how many times each tile was written
+  [[nodiscard]] std::filesystem::path fileOf(const TileKey& tile, std::uint32_t generation, const char* kind) const;
 };
 
 }  // namespace artemis::mapping

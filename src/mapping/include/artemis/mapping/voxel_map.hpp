@@ -122,6 +122,13 @@ class VoxelMap {
   };
   [[nodiscard]] const std::vector<Block>& blocks() const { return blocks_; }
 
+  // Tiles coming back (tile_state.cpp): voxels `indices` whole, their vertices written as
+  // local.at(id); loadVoxels adds them back, local vertex i as ids[i], and returns their new
+  // indices. Throws ArchiveError on damage, or for a voxel the map already has.
+  void saveVoxels(ArchiveWriter& out, const std::vector<std::uint32_t>& indices,
+                  const std::unordered_map<std::uint32_t, std::uint32_t>& local) const;
+  std::vector<std::uint32_t> loadVoxels(ArchiveReader& in, const std::vector<std::uint32_t>& ids);
+
   // Checkpoints (mapping/checkpoint.cpp): the whole map, its per-frame scratch aside; load() into a
   // map made with the same params (checked).
   void save(ArchiveWriter& out) const;

@@ -136,16 +136,18 @@ struct RunReport {
   // per frame.
   StageTimes times;
   double finish_ms = 0.0;
-  std::size_t faces_cut = 0;               // by the semantic constraint, over the frames (not the final meshing)
-  std::size_t points_in_vehicle_path = 0;  // returns dropped inside the vehicle's box (MapperParams)
-  std::size_t points_carved = 0;           // kept points removed as free space (FreeSpaceCarver)
+  std::size_t faces_cut = 0;                 // by the semantic constraint, over the frames (not the final meshing)
+  std::size_t points_in_vehicle_path = 0;    // returns dropped inside the vehicle's box (MapperParams)
+  std::size_t points_carved = 0;             // kept points removed as free space (FreeSpaceCarver)
   std::size_t points_in_finished_tiles = 0;  // returns dropped: they fell in a tile already written
   std::size_t tiles_finished = 0;            // tiles written and dropped from memory during the run
+  std::size_t tiles_reloaded = 0;            // finished tiles loaded back: the drive came back to them
   std::size_t tiles_in_memory = 0;           // at the last look for finished tiles
   std::size_t tiles_written = 0;             // tile files at the end (the finished and the rest)
   std::size_t dangling_faces = 0;            // stitching the tiles: faces whose corner no tile held
-  std::size_t holes_filled = 0;            // small holes the final mesh closed (holeFillingFaces)
-  std::size_t hole_faces = 0;              // ... with this many faces
+  std::size_t repeated_faces = 0;            // ... and faces two tiles held (one is written)
+  std::size_t holes_filled = 0;              // small holes the final mesh closed (holeFillingFaces)
+  std::size_t hole_faces = 0;                // ... with this many faces
   double peak_rss_mb = 0.0;
   std::vector<registration::FrameRegistration> registrations;  // one per mapped frame, with refinement
   std::vector<std::size_t> registered_frames;                  // their recording indices

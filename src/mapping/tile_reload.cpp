@@ -1,0 +1,252 @@
+// The mapper's tiles when the drive comes back (tile_store.hpp): each finished tile's state file,
+// written as it left, and loading it back, stitched to what stayed in memory by vertex uid.
+
+#include <fmt/format.h>
+
+#include <algorithm>
+#include <limits>
+#include <map>
+#include <optional>
+#include <unordered_map>
+
+#include "artemis/core/archive.hpp"
+#include "artemis/core/colour.hpp"
+#include "artemis/core/timer.hpp"
+#include "artemis/io/file.hpp"
+#include "artemis/io/read_file.hpp"
+#include "artemis/mapping/mapper.hpp"
+
+namespace artemis::mapping {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr const char* kStateMagic = "ARTEMIS tile state";
+constexpr std::uint32_t kStateVersion = 1;
+
+// A state file read and checked, its body ready for an ArchiveReader.
+struct StateFile {
+  fs::path path;
+  std::vector<unsigned char> bytes;
+  std::size_t body = 0;  // where the body starts
+};
+
+Result<StateFile> readStateFile(const fs::path& path) {
+  auto bytes = io::readFileBytes(path, io::limits::kCheckpoint);
+  if (!bytes) return bytes.status();
+  StateFile f{path, std::move(*bytes), 0};
+  const std::span<const std::byte> all(reinterpret_cast<const std::byte*>(f.bytes.data()), f.bytes.size());
+  ArchiveReader in(all, path.string());
+  try {
+    if (in.string(64) != kStateMagic) return parseError(path.string() + ": not an ARTEMIS tile state file");
+    if (const auto version = in.value<std::uint32_t>(); version != kStateVersion) {
+      return invalidArgument(fmt::format("{}: a tile state of format {}; this version of artemis reads {}",
+                                         path.string(), version, kStateVersion));
+    }
+    const auto size = in.value<std::uint64_t>();
+    const auto sum = in.value<std::uint64_t>();
+    const std::span<const std::byte> body = all.subspan(in.position());
+    if (body.size() != size || archiveChecksum(body) != sum) {
+      return parseError(path.string() + ": the tile state is damaged (its size or checksum does not match)");
+    }
+    f.body = in.position();
+  } catch (const ArchiveError& e) {
+    return parseError(e.what());
+  }
+  return f;
+}
+
+// What a state file's faces section holds.
+struct StateFaces {
+  std::vector<VoxelKey> owners;
+  std::vector<std::uint32_t> counts;  // faces per owner
+  std::vector<Face> faces;            // corners as TileContents numbers them
+  std::vector<TileContents::External> externals;
+};
+
+}  // namespace
+
+std::vector<std::byte> Mapper::tileState(const TileKey& tile, const std::vector<std::uint32_t>& members,
+                                         const std::vector<VoxelKey>& owners, const TileContents& contents) const {
+  std::unordered_map<std::uint32_t, std::uint32_t> local;
+  local.reserve(members.size());
+  for (std::size_t i = 0; i < members.size(); ++i) local.emplace(members[i], static_cast<std::uint32_t>(i));
+  std::vector<std::uint32_t> voxels;
+  for (const VoxelKey& k : voxelsOf({tile}, nullptr)) voxels.push_back(map_.indexOf(k));
+  ArchiveWriter body;
+  body.section("tile-state");
+  body.value(tile);
+  mesh_.saveVertices(body, members);
+  map_.saveVoxels(body, voxels, local);
+  mesh_.saveVoxelSemantics(body, voxels);
+  body.section("faces");
+  std::vector<std::uint32_t> counts;
+  counts.reserve(owners.size());
+  for (const VoxelKey& k : owners) counts.push_back(static_cast<std::uint32_t>(mesh_.voxelFaces(k)->size()));
+  body.array(owners);
+  body.array(counts);
+  body.array(contents.faces);
+  body.array(contents.externals);
+  ArchiveWriter head;
+  head.string(kStateMagic);
+  head.value(kStateVersion);
+  head.value(body.size());
+  head.value(archiveChecksum(body.bytes()));
+  std::vector<std::byte> bytes(head.bytes().begin(), head.bytes().end());
+  bytes.insert(bytes.end(), body.bytes().begin(), body.bytes().end());
+  return bytes;
+}
+
+std::set<TileKey> Mapper::returnedTiles(const Eigen::Vector3f& sensor_W) const {
+  std::set<TileKey> back;
+  if (!tiles_.enabled() || !sensor_W.allFinite()) return back;
+  const double reach = tiles_.reloadDistanceM();
+  for (const TileKey& t : tiles_.finishedTiles()) {
+    if (tiles_.distance(t, sensor_W) < reach) back.insert(t);
+  }
+  return back;
+}
+
+Result<ReloadStats> Mapper::reloadTiles(const std::set<TileKey>& tiles) {
+  ReloadStats stats;
+  if (tiles.empty()) return stats;
+  Stopwatch clock;
+  std::vector<StateFile> files;
+  for (const TileKey& t : tiles) {
+    auto f = readStateFile(tiles_.stateFileOf(t));
+    if (!f) return f.status();
+    files.push_back(std::move(*f));
+  }
+  // The vertices in memory that the tiles' vertices or faces may name, by uid: those in the tiles
+  // (kept there for faces across their borders) and in the tiles around them (a face reaches one
+  // voxel beyond its owner).
+  std::set<TileKey> around;
+  for (const TileKey& t : tiles) {
+    for (std::int32_t dx = -1; dx <= 1; ++dx) {
+      for (std::int32_t dy = -1; dy <= 1; ++dy) around.insert({t.x + dx, t.y + dy});
+    }
+  }
+  std::unordered_map<std::uint64_t, std::uint32_t> in_memory;
+  TileKey last{std::numeric_limits<std::int32_t>::min(), 0};
+  bool last_around = false;
+  for (std::uint32_t v = 0; v < mesh_.vertexCount(); ++v) {
+    if (const TileKey t = tiles_.tileOf(mesh_.voxels()[v]); !(t == last)) {
+      last = t;
+      last_around = around.contains(t);
+    }
+    if (last_around) in_memory.emplace(mesh_.uid(v), v);
+  }
+  const std::size_t changes_before = mesh_.changes().voxels.size();
+  std::vector<StateFaces> faces(files.size());
+  try {
+    for (std::size_t k = 0; k < files.size(); ++k) {
+      const StateFile& f = files[k];
+      ArchiveReader in(std::span<const std::byte>(reinterpret_cast<const std::byte*>(f.bytes.data()), f.bytes.size())
+                           .subspan(f.body),
+                       f.path.string());
+      in.section("tile-state");
+      const auto key = in.value<TileKey>();
+      if (!tiles.contains(key) || !(key == *std::next(tiles.begin(), static_cast<std::ptrdiff_t>(k)))) {
+        in.fail("the tile state is of another tile");
+      }
+      std::size_t merged = 0;
+      const std::vector<std::uint32_t> ids = mesh_.loadVertices(in, [&](std::uint64_t uid) {
+        const auto it = in_memory.find(uid);
+        if (it == in_memory.end()) return SemanticMesh::kGone;
+        ++merged;
+        return it->second;
+      });
+      for (const std::uint32_t v : ids) in_memory[mesh_.uid(v)] = v;
+      const std::vector<std::uint32_t> voxels = map_.loadVoxels(in, ids);
+      for (const std::uint32_t index : voxels) {
+        for (const std::uint32_t v : map_.voxelAt(index).vertices) mesh_.setVoxelIndex(v, index);
+      }
+      mesh_.loadVoxelSemantics(in, voxels);
+      in.section("faces");
+      StateFaces& sf = faces[k];
+      in.array(sf.owners);
+      in.array(sf.counts);
+      in.array(sf.faces);
+      in.array(sf.externals);
+      std::uint64_t total = 0;
+      for (const std::uint32_t c : sf.counts) total += c;
+      if (sf.counts.size() != sf.owners.size() || total != sf.faces.size() || !in.atEnd()) {
+        in.fail("the tile state's faces do not match their owners");
+      }
+      for (Face& face : sf.faces) {
+        for (std::uint32_t& c : face) {
+          if (c >= TileContents::kExternal) {
+            if (c - TileContents::kExternal >= sf.externals.size()) in.fail("a face names an external it lacks");
+          } else if (c >= ids.size()) {
+            in.fail("a face names a vertex the tile lacks");
+          } else {
+            c = ids[c];
+          }
+        }
+      }
+      stats.vertices += ids.size();
+      stats.merged += merged;
+      stats.voxels += voxels.size();
+    }
+  } catch (const ArchiveError& e) {
+    return parseError(e.what());
+  }
+  // Then the faces, once every tile's vertices are back: a corner across a border is a vertex in
+  // memory, or one of a finished tile, loaded from its tile file for the faces that use it.
+  std::map<TileKey, std::optional<TileContents>> neighbours;
+  const auto ghost = [&](const TileContents::External& e) -> std::uint32_t {
+    if (const auto it = in_memory.find(e.uid); it != in_memory.end()) return it->second;
+    if (!tiles_.finished(e.tile)) return SemanticMesh::kGone;
+    auto& n = neighbours[e.tile];
+    if (!n) {
+      auto read = readTileFile(tiles_.fileOf(e.tile));
+      n = read ? std::move(*read) : TileContents{};
+    }
+    const auto at = std::lower_bound(n->uids.begin(), n->uids.end(), e.uid);
+    if (at == n->uids.end() || *at != e.uid) return SemanticMesh::kGone;
+    const auto i = static_cast<std::size_t>(at - n->uids.begin());
+    Eigen::Vector3f colour;
+    for (int c = 0; c < 3; ++c)
+      colour(c) = static_cast<float>(srgbDecode(n->rgb[i][static_cast<std::size_t>(c)] / 255.0));
+    const VoxelKey voxel = tiles_.clampInto(e.tile, map_.keyOf(n->positions[i]));
+    const std::uint32_t v =
+        mesh_.addGhost(n->positions[i], n->normals[i], voxel, e.uid, n->coloured[i] != 0 ? &colour : nullptr);
+    in_memory[e.uid] = v;
+    ++stats.ghosts;
+    return v;
+  };
+  for (StateFaces& sf : faces) {
+    std::vector<std::uint32_t> external_id(sf.externals.size());
+    for (std::size_t i = 0; i < sf.externals.size(); ++i) external_id[i] = ghost(sf.externals[i]);
+    std::size_t at = 0;
+    for (std::size_t o = 0; o < sf.owners.size(); ++o) {
+      std::vector<Face> owned;
+      for (std::uint32_t j = 0; j < sf.counts[o]; ++j, ++at) {
+        Face f = sf.faces[at];
+        bool whole = true;
+        for (std::uint32_t& c : f) {
+          if (c >= TileContents::kExternal) c = external_id[c - TileContents::kExternal];
+          whole = whole && c != SemanticMesh::kGone;
+        }
+        if (whole) {
+          owned.push_back(f);
+        } else {
+          ++stats.faces_dropped;
+        }
+      }
+      stats.faces += owned.size();
+      if (!owned.empty()) mesh_.setVoxelFaces(sf.owners[o], std::move(owned));
+    }
+  }
+  for (const TileKey& t : tiles) tiles_.reopen(t);
+  const SemanticMesh::Changes& now = mesh_.changes();
+  reloaded_.voxels.insert(reloaded_.voxels.end(), now.voxels.begin() + static_cast<std::ptrdiff_t>(changes_before),
+                          now.voxels.end());
+  reloaded_.faces_added += stats.faces;
+  stats.tiles = tiles.size();
+  stats.ms = clock.elapsedMs();
+  return stats;
+}
+
+}  // namespace artemis::mapping
