@@ -3,14 +3,12 @@
 // vertex twice, and no more open edges (cracks) than the run that kept everything; the tile files
 // are in OUT/tiles and timing.json counts them. A drive that comes back loads the tiles it finished
 // and maps them on, again to the map of a run that kept everything.
-#include <fmt/format.h>
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <array>
 #include <cstdint>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <set>
 #include <string>
@@ -115,43 +113,14 @@ TEST(CliTiles, EvictedTilesStitchIntoTheMapOfARunThatKeptThemAll) {
       << a.open_edges << " open edges kept, " << b.open_edges << " tiled";
 }
 
-// The simulated street of `from` driven there and back: frames 0..n-1, then n-2 down to 0, as
-// links to its scans and images, with their poses.
-void writeThereAndBack(const fs::path& from, const fs::path& to, int n) {
-  const fs::path seq = from / "sequences" / "00";
-  const fs::path out = to / "sequences" / "00";
-  fs::create_directories(out / "velodyne");
-  fs::create_directories(out / "image_2");
-  fs::create_directories(to / "poses");
-  fs::create_symlink(seq / "calib.txt", out / "calib.txt");
-  std::vector<std::string> poses;
-  std::ifstream pose_file(from / "poses" / "00.txt");
-  for (std::string line; std::getline(pose_file, line);) poses.push_back(line);
-  ASSERT_GE(poses.size(), static_cast<std::size_t>(n));
-  std::vector<int> order;
-  for (int i = 0; i < n; ++i) order.push_back(i);
-  for (int i = n - 2; i >= 0; --i) order.push_back(i);
-  std::string times;
-  std::string pose_lines;
-  for (std::size_t k = 0; k < order.size(); ++k) {
-    const std::string was = fmt::format("{:06d}", order[k]);
-    const std::string now = fmt::format("{:06d}", k);
-    fs::create_symlink(seq / "velodyne" / (was + ".bin"), out / "velodyne" / (now + ".bin"));
-    fs::create_symlink(seq / "image_2" / (was + ".png"), out / "image_2" / (now + ".png"));
-    times += fmt::format("{:e}\n", 0.1 * static_cast<double>(k));
-    pose_lines += poses[static_cast<std::size_t>(order[k])] + "\n";
-  }
-  std::ofstream(out / "times.txt") << times;
-  std::ofstream(to / "poses" / "00.txt") << pose_lines;
-}
-
 TEST(CliTiles, ADriveThatComesBackLoadsItsFinishedTilesAndMapsThemOn) {
   test::TempDir tmp;
   const fs::path street = tmp / "street";
   const auto sim = test::runCli("sim --preset demo --frames 40 --azimuth-step 0.36 --out " + street.string());
   ASSERT_EQ(sim.exit_code, 0) << sim.err;
   const fs::path loop = tmp / "loop";
-  writeThereAndBack(street, loop, 40);
+  std::string why;
+  ASSERT_TRUE(test::writeThereAndBack(street, loop, 40, &why)) << why;
   // Tiles leave 20 m behind the sensor and come back within 20 - 6.4 m: farther than the 12 m
   // the returns reach, so no return falls in a finished tile, and both runs map the same returns.
   const std::string common = " --max-range 12 --texture-range 12 --texture-revisit 10 --tile-edge 6.4 --evict-every 5";

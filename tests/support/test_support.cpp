@@ -1,7 +1,12 @@
 #include "support/test_support.hpp"
 
+#include <algorithm>
 #include <cstdlib>
+#include <fstream>
 #include <random>
+#include <string>
+#include <utility>
+#include <vector>
 
 namespace artemis::test {
 
@@ -56,6 +61,49 @@ TempDir::TempDir() {
 TempDir::~TempDir() {
   std::error_code ec;
   std::filesystem::remove_all(path_, ec);
+}
+
+bool writeThereAndBack(const std::filesystem::path& from, const std::filesystem::path& to, int n, std::string* why) {
+  namespace fs = std::filesystem;
+  std::vector<std::string> poses;
+  std::ifstream pose_file(from / "poses" / "00.txt");
+  for (std::string line; std::getline(pose_file, line);) poses.push_back(line);
+  if (n < 2 || poses.size() < static_cast<std::size_t>(n)) {
+    *why = (from / "poses" / "00.txt").string() + " has fewer than " + std::to_string(n) + " poses";
+    return false;
+  }
+  // Per-frame files: the scans, and where the recording has them, images, labels and the
+  // simulator's ground truth.
+  const std::vector<std::pair<fs::path, std::string>> per_frame = {{fs::path("sequences") / "00" / "velodyne", ".bin"},
+                                                                   {fs::path("sequences") / "00" / "image_2", ".png"},
+                                                                   {fs::path("sequences") / "00" / "labels", ".label"},
+                                                                   {fs::path("gt") / "semantic_2", ".png"},
+                                                                   {fs::path("gt") / "instance_2", ".png"},
+                                                                   {fs::path("gt") / "depth_2", ".png"}};
+  std::error_code ec;
+  for (const auto& [dir, ext] : per_frame) {
+    if (fs::is_directory(from / dir)) fs::create_directories(to / dir, ec);
+  }
+  fs::create_directories(to / "poses", ec);
+  fs::create_symlink(from / "sequences" / "00" / "calib.txt", to / "sequences" / "00" / "calib.txt", ec);
+  if (fs::exists(from / "gt" / "mesh.ply")) fs::create_symlink(from / "gt" / "mesh.ply", to / "gt" / "mesh.ply", ec);
+  std::ofstream times(to / "sequences" / "00" / "times.txt");
+  std::ofstream pose_out(to / "poses" / "00.txt");
+  const auto name = [](int i, const std::string& ext) {
+    std::string s = std::to_string(i);
+    return std::string(6 - std::min<std::size_t>(6, s.size()), '0') + s + ext;
+  };
+  for (int k = 0; k < 2 * n - 1 && !ec; ++k) {
+    const int i = k < n ? k : 2 * n - 2 - k;
+    for (const auto& [dir, ext] : per_frame) {
+      if (fs::is_directory(from / dir) && !ec)
+        fs::create_symlink(from / dir / name(i, ext), to / dir / name(k, ext), ec);
+    }
+    times << 0.1 * k << "\n";
+    pose_out << poses[static_cast<std::size_t>(i)] << "\n";
+  }
+  if (ec) *why = to.string() + ": " + ec.message();
+  return !ec;
 }
 
 }  // namespace artemis::test

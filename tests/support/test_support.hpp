@@ -39,6 +39,11 @@ class TempDir {
 
 bool runningInCi();
 
+// A recording in KITTI odometry's layout (what `artemis sim` writes) driven there and back: its
+// frames 0..n-1, then n-2 down to 0, as links to its scans (and images, where it has them), with
+// their poses and times 0.1 s apart. False, with the reason in *why, when it cannot be made.
+bool writeThereAndBack(const std::filesystem::path& from, const std::filesystem::path& to, int n, std::string* why);
+
 }  // namespace artemis::test
 
 // Skips the test (or fails it under CI=true) when ARTEMIS_DATA_DIR/<relative> is missing.

@@ -3,12 +3,8 @@
 // the run's mesh.ply, once.
 #include <gtest/gtest.h>
 
-#include <fmt/format.h>
-
 #include <filesystem>
-#include <fstream>
 #include <string>
-#include <vector>
 
 #include "artemis/datasets/dataset.hpp"
 #include "artemis/pipeline/run.hpp"
@@ -49,36 +45,14 @@ TEST(LiveViewerTiles, FinishedTilesGoToDiskAndTheViewerShowsTheWholeMesh) {
   EXPECT_EQ(scene.infoJson()["faces"].get<std::size_t>(), report->faces);
 }
 
-// The drive of `from` there and back (frames 0..n-1, then n-2 down to 0), as links.
-void writeThereAndBack(const std::filesystem::path& from, const std::filesystem::path& to, int n) {
-  namespace fs = std::filesystem;
-  const fs::path seq = from / "sequences" / "00";
-  const fs::path out = to / "sequences" / "00";
-  fs::create_directories(out / "velodyne");
-  fs::create_directories(to / "poses");
-  fs::create_symlink(seq / "calib.txt", out / "calib.txt");
-  std::vector<std::string> poses;
-  std::ifstream pose_file(from / "poses" / "00.txt");
-  for (std::string line; std::getline(pose_file, line);) poses.push_back(line);
-  std::ofstream times(out / "times.txt");
-  std::ofstream pose_out(to / "poses" / "00.txt");
-  int k = 0;
-  for (int step = 0; step < 2 * n - 1; ++step, ++k) {
-    const int i = step < n ? step : 2 * n - 2 - step;
-    fs::create_symlink(seq / "velodyne" / fmt::format("{:06d}.bin", i),
-                       out / "velodyne" / fmt::format("{:06d}.bin", k));
-    times << fmt::format("{:e}\n", 0.1 * k);
-    pose_out << poses.at(static_cast<std::size_t>(i)) << "\n";
-  }
-}
-
 TEST(LiveViewerTiles, TilesTheDriveComesBackToAreShownFromMemoryAgain) {
   ::artemis::test::TempDir recording;
   sim::SimParams sim;
   sim.frames = 30;
   sim.lidar.azimuth_step_deg = 0.72;
   ASSERT_TRUE(sim::writeSequence(sim, recording / "street").isOk());
-  writeThereAndBack(recording / "street", recording / "loop", 30);
+  std::string why;
+  ASSERT_TRUE(::artemis::test::writeThereAndBack(recording / "street", recording / "loop", 30, &why)) << why;
   datasets::DatasetOptions options;
   options.load_images = false;
   options.max_range_m = 12.0;
