@@ -305,9 +305,9 @@ Status writeFaces(const mapping::TileStore& store, const Plan& plan, Outputs& ou
     std::uint32_t next = base;
     for (std::size_t i = 0; i < used.size(); ++i) index[i] = used[i] != 0 ? next++ : 0;
     const auto repeated = plan.repeated.find(key);
-    for (std::size_t k = 0; k < t->faces.size(); ++k) {
-      if (repeated != plan.repeated.end() && repeated->second.contains(static_cast<std::uint32_t>(k))) continue;
-      const Face& f = t->faces[k];
+    for (std::size_t n = 0; n < t->faces.size(); ++n) {
+      if (repeated != plan.repeated.end() && repeated->second.contains(static_cast<std::uint32_t>(n))) continue;
+      const Face& f = t->faces[n];
       std::array<std::int32_t, 3> corners{};
       bool whole = true;
       for (std::size_t k = 0; k < 3 && whole; ++k) {
