@@ -6,6 +6,7 @@
 #include <map>
 #include <unordered_map>
 
+#include "artemis/core/archive.hpp"
 #include "artemis/core/colour.hpp"
 #include "artemis/core/timer.hpp"
 #include "artemis/mapping/mapper.hpp"
@@ -180,9 +181,10 @@ Status Mapper::writeTiles(const std::set<TileKey>& tiles, std::size_t& faces, bo
     std::sort(own.begin(), own.end());
     const TileContents contents = tileContents(t, members[t], own);
     faces += contents.faces.size();
-    std::vector<std::byte> state;
-    if (with_state) state = tileState(t, members[t], own, contents);
-    const std::array<std::span<const std::byte>, 1> parts{state};
+    ArchiveWriter head;
+    ArchiveWriter body;
+    if (with_state) tileState(t, members[t], own, contents, head, body);
+    const std::array<std::span<const std::byte>, 2> parts{head.bytes(), body.bytes()};
     if (Status s = tiles_.write(contents, with_state ? std::span<const std::span<const std::byte>>(parts)
                                                      : std::span<const std::span<const std::byte>>());
         !s.isOk()) {

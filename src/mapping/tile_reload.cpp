@@ -67,14 +67,14 @@ struct StateFaces {
 
 }  // namespace
 
-std::vector<std::byte> Mapper::tileState(const TileKey& tile, const std::vector<std::uint32_t>& members,
-                                         const std::vector<VoxelKey>& owners, const TileContents& contents) const {
+void Mapper::tileState(const TileKey& tile, const std::vector<std::uint32_t>& members,
+                       const std::vector<VoxelKey>& owners, const TileContents& contents, ArchiveWriter& head,
+                       ArchiveWriter& body) const {
   std::unordered_map<std::uint32_t, std::uint32_t> local;
   local.reserve(members.size());
   for (std::size_t i = 0; i < members.size(); ++i) local.emplace(members[i], static_cast<std::uint32_t>(i));
   std::vector<std::uint32_t> voxels;
   for (const VoxelKey& k : voxelsOf({tile}, nullptr)) voxels.push_back(map_.indexOf(k));
-  ArchiveWriter body;
   body.section("tile-state");
   body.value(tile);
   mesh_.saveVertices(body, members);
@@ -88,14 +88,10 @@ std::vector<std::byte> Mapper::tileState(const TileKey& tile, const std::vector<
   body.array(counts);
   body.array(contents.faces);
   body.array(contents.externals);
-  ArchiveWriter head;
   head.string(kStateMagic);
   head.value(kStateVersion);
   head.value(body.size());
   head.value(archiveChecksum(body.bytes()));
-  std::vector<std::byte> bytes(head.bytes().begin(), head.bytes().end());
-  bytes.insert(bytes.end(), body.bytes().begin(), body.bytes().end());
-  return bytes;
 }
 
 std::set<TileKey> Mapper::returnedTiles(const Eigen::Vector3f& sensor_W) const {

@@ -202,11 +202,11 @@ class Mapper {
   // The tile's contents: its vertices `members` (ascending uids) and the faces of `owners`.
   [[nodiscard]] TileContents tileContents(const TileKey& tile, const std::vector<std::uint32_t>& members,
                                           const std::vector<VoxelKey>& owners) const;
-  // The tile's state file: its vertices `members` and voxels whole, and the faces of `owners` as
-  // `contents` numbers them (tile_reload.cpp).
-  [[nodiscard]] std::vector<std::byte> tileState(const TileKey& tile, const std::vector<std::uint32_t>& members,
-                                                 const std::vector<VoxelKey>& owners,
-                                                 const TileContents& contents) const;
+  // The tile's state file, its header into `head` and the rest into `body` (empty writers): its
+  // vertices `members` and voxels whole, and the faces of `owners` as `contents` numbers them
+  // (tile_reload.cpp).
+  void tileState(const TileKey& tile, const std::vector<std::uint32_t>& members, const std::vector<VoxelKey>& owners,
+                 const TileContents& contents, ArchiveWriter& head, ArchiveWriter& body) const;
   // Drops the voxels flagged `gone` and their faces, and the vertices of finished tiles that no
   // face in memory uses; fills `stats`.
   void dropFinished(const std::vector<std::uint8_t>& gone, EvictionStats& stats);
