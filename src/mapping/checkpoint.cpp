@@ -13,6 +13,7 @@
 #include "artemis/mapping/swept_volume.hpp"
 #include "artemis/mapping/voxel_map.hpp"
 #include "range_image.hpp"
+#include "voxel_archive.hpp"
 
 namespace artemis::mapping {
 
@@ -37,19 +38,7 @@ void VoxelMap::save(ArchiveWriter& out) const {
   out.value(static_cast<std::uint64_t>(voxels_.size()));
   for (const Voxel& v : voxels_) {
     out.array(v.vertices);
-    out.array(v.points);
-    out.array(v.sub_cells);
-    out.array(v.evidence);
-    out.value(v.lo);
-    out.value(v.hi);
-    out.value(v.occupied);
-    out.value(v.points_when_meshed);
-    out.value(v.active_frame);
-    out.value(v.hit_frame);
-    out.value(v.carved_frame);
-    out.value(v.plane_normal);
-    out.value(v.plane_points);
-    out.value(v.meshed_frame);
+    detail::saveVoxelFields(out, v);
   }
   out.array(keys_);
   out.array(table_);
@@ -72,19 +61,7 @@ void VoxelMap::load(ArchiveReader& in) {
   for (std::size_t i = 0; i < count; ++i) {
     Voxel& v = voxels_.emplace_back();
     in.array(v.vertices);
-    in.array(v.points);
-    in.array(v.sub_cells);
-    in.array(v.evidence);
-    in.value(v.lo);
-    in.value(v.hi);
-    in.value(v.occupied);
-    in.value(v.points_when_meshed);
-    in.value(v.active_frame);
-    in.value(v.hit_frame);
-    in.value(v.carved_frame);
-    in.value(v.plane_normal);
-    in.value(v.plane_points);
-    in.value(v.meshed_frame);
+    detail::loadVoxelFields(in, v);
   }
   keys_.reserve(voxels_.capacity());
   in.array(keys_);
@@ -94,12 +71,6 @@ void VoxelMap::load(ArchiveReader& in) {
   }
   for (const std::uint32_t slot : table_) {
     if (slot > count) in.fail("the voxel map's hash table names a voxel it does not have");
-  }
-  for (const Voxel& v : voxels_) {
-    if (v.points.size() != v.vertices.size() || v.sub_cells.size() != v.vertices.size() ||
-        v.evidence.size() != v.vertices.size()) {
-      in.fail("a voxel's points, sub-cells and evidence do not match its vertices");
-    }
   }
   blocks_.resize(static_cast<std::size_t>(in.value<std::uint64_t>()));
   block_of_.clear();
@@ -161,9 +132,9 @@ void SemanticMesh::load(ArchiveReader& in) {
   in.array(colour_var_);
   const std::size_t n = positions_.size();
   const std::size_t slots = slots_.size();
-  if (slots == 0 || measured_.size() != n || normals_.size() != n || voxels_.size() != n || views_.size() != n || uids_.size() != n ||
-      (n > 0 && uids_.back() >= next_uid_) ||
-      voxel_index_.size() != n || semantic_weight_.size() > n || evidence_.size() != semantic_weight_.size() * slots ||
+  if (slots == 0 || measured_.size() != n || normals_.size() != n || voxels_.size() != n || views_.size() != n ||
+      uids_.size() != n || (n > 0 && uids_.back() >= next_uid_) || voxel_index_.size() != n ||
+      semantic_weight_.size() > n || evidence_.size() != semantic_weight_.size() * slots ||
       refined_weight_.size() > n || log_likelihood_.size() != refined_weight_.size() * slots ||
       voxel_evidence_.size() != voxel_weight_.size() * slots || colour_mean_.size() != colour_var_.size() ||
       colour_var_.size() > n) {
@@ -338,7 +309,8 @@ void Mapper::load(ArchiveReader& in) {
   // in memory uses, none).
   const std::size_t voxels = map_.size();
   for (const std::uint32_t index : mesh_.voxelIndices()) {
-    if (index >= voxels && index != SemanticMesh::kNoVoxel) in.fail("a mesh vertex names a voxel the map does not have");
+    if (index >= voxels && index != SemanticMesh::kNoVoxel)
+      in.fail("a mesh vertex names a voxel the map does not have");
   }
   const std::size_t vertices = mesh_.vertexCount();
   for (std::uint32_t index = 0; index < voxels; ++index) {

@@ -1,8 +1,6 @@
 // The mapper's tiles when the drive comes back (tile_store.hpp): each finished tile's state file,
 // written as it left, and loading it back, stitched to what stayed in memory by vertex uid.
 
-#include <fmt/format.h>
-
 #include <algorithm>
 #include <limits>
 #include <map>
@@ -12,50 +10,15 @@
 #include "artemis/core/archive.hpp"
 #include "artemis/core/colour.hpp"
 #include "artemis/core/timer.hpp"
-#include "artemis/io/file.hpp"
-#include "artemis/io/read_file.hpp"
 #include "artemis/mapping/mapper.hpp"
+#include "checked_file.hpp"
 
 namespace artemis::mapping {
-
-namespace fs = std::filesystem;
 
 namespace {
 
 constexpr const char* kStateMagic = "ARTEMIS tile state";
 constexpr std::uint32_t kStateVersion = 1;
-
-// A state file read and checked, its body ready for an ArchiveReader.
-struct StateFile {
-  fs::path path;
-  std::vector<unsigned char> bytes;
-  std::size_t body = 0;  // where the body starts
-};
-
-Result<StateFile> readStateFile(const fs::path& path) {
-  auto bytes = io::readFileBytes(path, io::limits::kCheckpoint);
-  if (!bytes) return bytes.status();
-  StateFile f{path, std::move(*bytes), 0};
-  const std::span<const std::byte> all(reinterpret_cast<const std::byte*>(f.bytes.data()), f.bytes.size());
-  ArchiveReader in(all, path.string());
-  try {
-    if (in.string(64) != kStateMagic) return parseError(path.string() + ": not an ARTEMIS tile state file");
-    if (const auto version = in.value<std::uint32_t>(); version != kStateVersion) {
-      return invalidArgument(fmt::format("{}: a tile state of format {}; this version of artemis reads {}",
-                                         path.string(), version, kStateVersion));
-    }
-    const auto size = in.value<std::uint64_t>();
-    const auto sum = in.value<std::uint64_t>();
-    const std::span<const std::byte> body = all.subspan(in.position());
-    if (body.size() != size || archiveChecksum(body) != sum) {
-      return parseError(path.string() + ": the tile state is damaged (its size or checksum does not match)");
-    }
-    f.body = in.position();
-  } catch (const ArchiveError& e) {
-    return parseError(e.what());
-  }
-  return f;
-}
 
 // What a state file's faces section holds.
 struct StateFaces {
@@ -88,10 +51,7 @@ void Mapper::tileState(const TileKey& tile, const std::vector<std::uint32_t>& me
   body.array(counts);
   body.array(contents.faces);
   body.array(contents.externals);
-  head.string(kStateMagic);
-  head.value(kStateVersion);
-  head.value(body.size());
-  head.value(archiveChecksum(body.bytes()));
+  detail::writeCheckedHeader(head, kStateMagic, kStateVersion, body);
 }
 
 std::set<TileKey> Mapper::returnedTiles(const Eigen::Vector3f& sensor_W) const {
@@ -108,9 +68,9 @@ Result<ReloadStats> Mapper::reloadTiles(const std::set<TileKey>& tiles) {
   ReloadStats stats;
   if (tiles.empty()) return stats;
   Stopwatch clock;
-  std::vector<StateFile> files;
+  std::vector<detail::CheckedFile> files;
   for (const TileKey& t : tiles) {
-    auto f = readStateFile(tiles_.stateFileOf(t));
+    auto f = detail::readCheckedFile(tiles_.stateFileOf(t), kStateMagic, kStateVersion, "tile state");
     if (!f) return f.status();
     files.push_back(std::move(*f));
   }
@@ -136,14 +96,12 @@ Result<ReloadStats> Mapper::reloadTiles(const std::set<TileKey>& tiles) {
   const std::size_t changes_before = mesh_.changes().voxels.size();
   std::vector<StateFaces> faces(files.size());
   try {
-    for (std::size_t k = 0; k < files.size(); ++k) {
-      const StateFile& f = files[k];
-      ArchiveReader in(std::span<const std::byte>(reinterpret_cast<const std::byte*>(f.bytes.data()), f.bytes.size())
-                           .subspan(f.body),
-                       f.path.string());
+    auto tile = tiles.begin();
+    for (std::size_t k = 0; k < files.size(); ++k, ++tile) {
+      ArchiveReader in(files[k].bodyBytes(), tiles_.stateFileOf(*tile).string());
       in.section("tile-state");
       const auto key = in.value<TileKey>();
-      if (!tiles.contains(key) || !(key == *std::next(tiles.begin(), static_cast<std::ptrdiff_t>(k)))) {
+      if (!(key == *tile)) {
         in.fail("the tile state is of another tile");
       }
       std::size_t merged = 0;

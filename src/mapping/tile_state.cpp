@@ -8,6 +8,7 @@
 #include "artemis/core/archive.hpp"
 #include "artemis/mapping/semantic_mesh.hpp"
 #include "artemis/mapping/voxel_map.hpp"
+#include "voxel_archive.hpp"
 
 namespace artemis::mapping {
 
@@ -218,19 +219,7 @@ void VoxelMap::saveVoxels(ArchiveWriter& out, const std::vector<std::uint32_t>& 
     vertices.clear();
     for (const std::uint32_t id : v.vertices) vertices.push_back(local.at(id));
     out.array(vertices);
-    out.array(v.points);
-    out.array(v.sub_cells);
-    out.array(v.evidence);
-    out.value(v.lo);
-    out.value(v.hi);
-    out.value(v.occupied);
-    out.value(v.points_when_meshed);
-    out.value(v.active_frame);
-    out.value(v.hit_frame);
-    out.value(v.carved_frame);
-    out.value(v.plane_normal);
-    out.value(v.plane_points);
-    out.value(v.meshed_frame);
+    detail::saveVoxelFields(out, v);
   }
 }
 
@@ -244,23 +233,7 @@ std::vector<std::uint32_t> VoxelMap::loadVoxels(ArchiveReader& in, const std::ve
     const auto key = in.value<VoxelKey>();
     Voxel v;
     in.array(v.vertices);
-    in.array(v.points);
-    in.array(v.sub_cells);
-    in.array(v.evidence);
-    in.value(v.lo);
-    in.value(v.hi);
-    in.value(v.occupied);
-    in.value(v.points_when_meshed);
-    in.value(v.active_frame);
-    in.value(v.hit_frame);
-    in.value(v.carved_frame);
-    in.value(v.plane_normal);
-    in.value(v.plane_points);
-    in.value(v.meshed_frame);
-    if (v.points.size() != v.vertices.size() || v.sub_cells.size() != v.vertices.size() ||
-        v.evidence.size() != v.vertices.size()) {
-      in.fail("a tile state's voxel has points, sub-cells and evidence that do not match its vertices");
-    }
+    detail::loadVoxelFields(in, v);
     for (std::uint32_t& id : v.vertices) {
       if (id >= ids.size()) in.fail("a tile state's voxel names a vertex the tile does not have");
       id = ids[id];

@@ -9,8 +9,8 @@
 
 #include "artemis/core/archive.hpp"
 #include "artemis/io/file.hpp"
-#include "artemis/io/read_file.hpp"
 #include "artemis/mapping/voxel_map.hpp"
+#include "checked_file.hpp"
 
 namespace artemis::mapping {
 
@@ -42,32 +42,17 @@ Status writeTileFile(const fs::path& path, const TileContents& tile) {
   body.array(tile.faces);
   body.array(tile.externals);
   ArchiveWriter head;
-  head.string(kMagic);
-  head.value(kTileVersion);
-  head.value(body.size());
-  head.value(archiveChecksum(body.bytes()));
+  detail::writeCheckedHeader(head, kMagic, kTileVersion, body);
   const std::array<std::span<const std::byte>, 2> parts{head.bytes(), body.bytes()};
   return io::writeFileAtomic(path, parts);
 }
 
 Result<TileContents> readTileFile(const fs::path& path) {
-  auto bytes = io::readFileBytes(path, io::limits::kCheckpoint);
-  if (!bytes) return bytes.status();
-  const std::span<const std::byte> all(reinterpret_cast<const std::byte*>(bytes->data()), bytes->size());
-  ArchiveReader in(all, path.string());
+  auto file = detail::readCheckedFile(path, kMagic, kTileVersion, "tile file");
+  if (!file) return file.status();
+  ArchiveReader in(file->bodyBytes(), path.string());
   TileContents t;
   try {
-    if (in.string(64) != kMagic) return parseError(path.string() + ": not an ARTEMIS tile file");
-    if (const auto version = in.value<std::uint32_t>(); version != kTileVersion) {
-      return invalidArgument(fmt::format("{}: a tile file of format {}; this version of artemis reads {}",
-                                         path.string(), version, kTileVersion));
-    }
-    const auto size = in.value<std::uint64_t>();
-    const auto sum = in.value<std::uint64_t>();
-    const std::span<const std::byte> body = all.subspan(in.position());
-    if (body.size() != size || archiveChecksum(body) != sum) {
-      return parseError(path.string() + ": the tile file is damaged (its size or checksum does not match)");
-    }
     in.value(t.key);
     in.array(t.uids);
     in.array(t.positions);

@@ -113,7 +113,9 @@ class CliResume : public ::testing::Test {
     // The map went to tile files as the drive went on, and came back from them.
     const auto tiles = test::readJson(out / "timing.json")["tiles"];
     EXPECT_GT(tiles["finished_during_run"].get<int>(), 0) << tiles;
-    if (kTilesComeBack) EXPECT_GT(tiles["reloaded"].get<int>(), 0) << tiles;
+    if (kTilesComeBack) {
+      EXPECT_GT(tiles["reloaded"].get<int>(), 0) << tiles;
+    }
     EXPECT_TRUE(fs::is_directory(out / "tiles"));
     // The finished run leaves no checkpoint, staging folder, running tile folder or temporary file
     // behind.

@@ -136,17 +136,28 @@ TEST(Tiles, KeysAndDistancesOfTiles) {
   EXPECT_THROW(Mapper m(params), std::invalid_argument);
 }
 
-TEST(Tiles, TheMapperWritesTheTilesTheDriveLeftAndDropsTheirReturns) {
-  ::artemis::test::TempDir tmp;
+// Tiles of 6.4 m that leave 90 m behind the sensor.
+MapperParams tiledParams() {
   MapperParams params;
   params.tiles.edge_m = 6.4;
   params.tiles.evict_distance_m = 90.0;
   params.threads = 1;
-  Mapper mapper(params);
-  mapper.setTileDirectory(tmp / "tiles");
+  return params;
+}
+
+// The ground under a sensor 1.7 m up, over [0, length) x [0, 2).
+PointCloud groundStrip(float length) {
   PointCloud scan;
-  scan.points = strip(0.0f, 40.0f);
-  for (Eigen::Vector3f& p : scan.points) p.z() -= 1.7f;  // the ground under a sensor 1.7 m up
+  scan.points = strip(0.0f, length);
+  for (Eigen::Vector3f& p : scan.points) p.z() -= 1.7f;
+  return scan;
+}
+
+TEST(Tiles, TheMapperWritesTheTilesTheDriveLeftAndDropsTheirReturns) {
+  ::artemis::test::TempDir tmp;
+  Mapper mapper(tiledParams());
+  mapper.setTileDirectory(tmp / "tiles");
+  const PointCloud scan = groundStrip(40.0f);
   mapper.integrate(scan, Isometry3d(Eigen::Translation3d(0, 0, 1.7)));
   const std::size_t vertices = mapper.mesh().vertexCount();
   // Seen from 100 m on, the strip's tiles are all left behind.
@@ -192,15 +203,9 @@ std::set<std::array<std::uint64_t, 3>> facesByUid(const SemanticMesh& mesh) {
 
 TEST(Tiles, ADriveThatComesBackLoadsItsTilesWholeAndMapsThemOn) {
   ::artemis::test::TempDir tmp;
-  MapperParams params;
-  params.tiles.edge_m = 6.4;
-  params.tiles.evict_distance_m = 90.0;
-  params.threads = 1;
-  Mapper mapper(params);
+  Mapper mapper(tiledParams());
   mapper.setTileDirectory(tmp / "tiles");
-  PointCloud scan;
-  scan.points = strip(0.0f, 40.0f);
-  for (Eigen::Vector3f& p : scan.points) p.z() -= 1.7f;
+  const PointCloud scan = groundStrip(40.0f);
   const Isometry3d at_strip(Eigen::Translation3d(0, 0, 1.7));
   mapper.integrate(scan, at_strip);
   const std::size_t vertices = mapper.mesh().vertexCount();
@@ -238,15 +243,9 @@ TEST(Tiles, ADriveThatComesBackLoadsItsTilesWholeAndMapsThemOn) {
 
 TEST(Tiles, ADamagedStateFileIsNamedWhenTheDriveComesBack) {
   ::artemis::test::TempDir tmp;
-  MapperParams params;
-  params.tiles.edge_m = 6.4;
-  params.tiles.evict_distance_m = 90.0;
-  params.threads = 1;
-  Mapper mapper(params);
+  Mapper mapper(tiledParams());
   mapper.setTileDirectory(tmp / "tiles");
-  PointCloud scan;
-  scan.points = strip(0.0f, 10.0f);
-  mapper.integrate(scan, Isometry3d(Eigen::Translation3d(0, 0, 1.7)));
+  mapper.integrate(groundStrip(10.0f), Isometry3d(Eigen::Translation3d(0, 0, 1.7)));
   ASSERT_TRUE(mapper.evictTiles({Eigen::Vector3f(140.0f, 0, 0)}));
   const std::set<TileKey> back = mapper.returnedTiles(Eigen::Vector3f(0, 0, 0));
   ASSERT_FALSE(back.empty());
