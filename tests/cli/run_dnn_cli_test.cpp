@@ -85,7 +85,9 @@ TEST(RunDnn, SegmentEveryAndRealTimeCountTheFramesTheyObserve) {
   sem = readJson(tmp / "live/semantics.json");
   EXPECT_EQ(sem["segment_mode"], "realtime");
   const int observed = sem["frames_observed"];
-  EXPECT_GE(observed, 1);  // the first frame always finds the segmenter free
+  // The first frame always finds the segmenter free; its masks are fused, or, on a loaded machine
+  // where the network takes longer than the frame's view waits for them, come too late.
+  EXPECT_GE(observed + sem["frames_late"].get<int>(), 1);
   // Every frame was either observed, refused while the segmenter was busy, late, or failed.
   EXPECT_EQ(
       observed + sem["frames_busy"].get<int>() + sem["frames_late"].get<int>() + sem["frames_unobserved"].get<int>(),
