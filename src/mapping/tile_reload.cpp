@@ -161,8 +161,9 @@ Result<ReloadStats> Mapper::reloadTiles(const std::set<TileKey>& tiles) {
     if (at == n->uids.end() || *at != e.uid) return SemanticMesh::kGone;
     const auto i = static_cast<std::size_t>(at - n->uids.begin());
     Eigen::Vector3f colour;
-    for (int c = 0; c < 3; ++c)
+    for (int c = 0; c < 3; ++c) {
       colour(c) = static_cast<float>(srgbDecode(n->rgb[i][static_cast<std::size_t>(c)] / 255.0));
+    }
     const VoxelKey voxel = tiles_.clampInto(e.tile, map_.keyOf(n->positions[i]));
     const std::uint32_t v =
         mesh_.addGhost(n->positions[i], n->normals[i], voxel, e.uid, n->coloured[i] != 0 ? &colour : nullptr);
