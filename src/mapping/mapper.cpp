@@ -83,13 +83,17 @@ FrameStats Mapper::integrate(const PointCloud& points_L, const Isometry3d& T_W_L
   std::vector<Eigen::Vector3f>& points_W = points_W_;  // reused: no fresh pages every frame
   points_W.resize(points_L.size());
   float reach = 0.0f;  // horizontal extent of the scan around the sensor (squared, then not)
+  float farthest = 0.0f;  // its farthest return (squared, then not)
   for (std::size_t i = 0; i < points_L.size(); ++i) {
     const Eigen::Vector3f& p = points_L.points[i];
     points_W[i] = R * p + t;
     const float r2 = p.head<2>().squaredNorm();
     if (r2 > reach) reach = r2;  // NaN compares false
+    const float d2 = p.squaredNorm();
+    if (d2 > farthest) farthest = d2;
   }
   reach = std::sqrt(reach);
+  farthest = std::sqrt(farthest);
   const std::vector<std::uint8_t>* drop = nullptr;
   if (swept_.enabled() || tiles_.anyFinished()) {
     drop_.assign(points_W.size(), 0);
@@ -105,7 +109,9 @@ FrameStats Mapper::integrate(const PointCloud& points_L, const Isometry3d& T_W_L
     });
     stats.points_in_vehicle_path = static_cast<std::size_t>(std::count(drop_.begin(), drop_.end(), std::uint8_t{1}));
   }
-  if (tiles_.anyFinished()) stats.points_in_finished_tiles = dropInFinishedTiles(points_W);
+  // Returns are looked up tile by tile only where a finished tile lies within the scan's range
+  // (with tiles loaded back before the sensor comes that near, almost never).
+  if (tiles_.anyFinishedWithin(t, farthest)) stats.points_in_finished_tiles = dropInFinishedTiles(points_W);
   const std::size_t vertices_before = mesh_.vertexCount();
   std::vector<VoxelKey> active;
   const bool fuse = semantic != nullptr && semantic->view != nullptr && semantic->observation != nullptr;

@@ -109,6 +109,11 @@ double TileStore::distance(const TileKey& tile, const Eigen::Vector3f& p_W) cons
   return std::hypot(axis(p_W.x(), tile.x), axis(p_W.y(), tile.y));
 }
 
+bool TileStore::anyFinishedWithin(const Eigen::Vector3f& p_W, double distance) const {
+  return std::any_of(finished_.begin(), finished_.end(),
+                     [&](const TileKey& t) { return !(this->distance(t, p_W) > distance); });  // NaN: within
+}
+
 fs::path TileStore::fileOf(const TileKey& tile, std::uint32_t generation, const char* kind) const {
   return directory_ / fmt::format("tile_{}_{}.{}.{}", tile.x, tile.y, generation, kind);
 }

@@ -117,6 +117,8 @@ class TileStore {
 
   [[nodiscard]] bool finished(const TileKey& tile) const { return finished_.contains(tile); }
   [[nodiscard]] bool anyFinished() const { return !finished_.empty(); }
+  // Whether a finished tile lies within `distance` (horizontally) of p_W.
+  [[nodiscard]] bool anyFinishedWithin(const Eigen::Vector3f& p_W, double distance) const;
   [[nodiscard]] const std::set<TileKey>& finishedTiles() const { return finished_; }
   // Writes the tile's file (atomically) and counts the tile finished.
   // With `state` (the bytes of a state file), writes that first.
