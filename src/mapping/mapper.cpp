@@ -82,7 +82,7 @@ FrameStats Mapper::integrate(const PointCloud& points_L, const Isometry3d& T_W_L
   const Eigen::Vector3f t = T_W_L.translation().cast<float>();
   std::vector<Eigen::Vector3f>& points_W = points_W_;  // reused: no fresh pages every frame
   points_W.resize(points_L.size());
-  float reach = 0.0f;  // horizontal extent of the scan around the sensor (squared, then not)
+  float reach = 0.0f;     // horizontal extent of the scan around the sensor (squared, then not)
   float farthest = 0.0f;  // its farthest return (squared, then not)
   for (std::size_t i = 0; i < points_L.size(); ++i) {
     const Eigen::Vector3f& p = points_L.points[i];

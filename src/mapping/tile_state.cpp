@@ -51,7 +51,23 @@ bool anyNonZero(const std::vector<float>& a) {
   return std::any_of(a.begin(), a.end(), [](float x) { return x != 0.0f; });
 }
 
+// One item's per-slot values `from` (in a file's slots) into `to` (this mesh's `slots`): slot s of
+// the file is slot_of[s] here; slots the file lacks get 0.
+void scatterSlots(const float* from, const std::vector<std::size_t>& slot_of, float* to, std::size_t slots) {
+  std::fill_n(to, slots, 0.0f);
+  for (std::size_t s = 0; s < slot_of.size(); ++s) to[slot_of[s]] += from[s];
+}
+
 }  // namespace
+
+std::vector<std::size_t> SemanticMesh::readSlots(ArchiveReader& in) {
+  std::vector<semantics::ClassId> file_slots;
+  in.array(file_slots);
+  if (file_slots.empty() || file_slots.size() > 256) in.fail("a tile state has no semantic slots, or too many");
+  std::vector<std::size_t> slot_of(file_slots.size());
+  for (std::size_t s = 0; s < file_slots.size(); ++s) slot_of[s] = addSemanticClass(file_slots[s]);
+  return slot_of;
+}
 
 void SemanticMesh::saveVertices(ArchiveWriter& out, const std::vector<std::uint32_t>& ids) const {
   const std::size_t slots = slots_.size();
@@ -74,15 +90,11 @@ void SemanticMesh::saveVertices(ArchiveWriter& out, const std::vector<std::uint3
 std::vector<std::uint32_t> SemanticMesh::loadVertices(ArchiveReader& in,
                                                       const std::function<std::uint32_t(std::uint64_t)>& existing) {
   in.section("vertices");
-  std::vector<semantics::ClassId> file_slots;
-  in.array(file_slots);
-  if (file_slots.empty() || file_slots.size() > 256) in.fail("a tile state has no semantic slots, or too many");
-  std::vector<std::size_t> slot_of(file_slots.size());
-  for (std::size_t s = 0; s < file_slots.size(); ++s) slot_of[s] = addSemanticClass(file_slots[s]);
+  const std::vector<std::size_t> slot_of = readSlots(in);
   std::vector<std::uint64_t> uids;
   in.array(uids);
   const std::size_t n = uids.size();
-  const std::size_t fs = file_slots.size();
+  const std::size_t fs = slot_of.size();
   const auto positions = readArray<Eigen::Vector3f>(in, n, "positions");
   const auto measured = readArray<Eigen::Vector3f>(in, n, "measured positions");
   const auto normals = readArray<Eigen::Vector3f>(in, n, "normals");
@@ -143,15 +155,11 @@ std::vector<std::uint32_t> SemanticMesh::loadVertices(ArchiveReader& in,
     }
     if (v < semantic_weight_.size()) {
       semantic_weight_[v] = semantic_weight[i];
-      float* e = &evidence_[static_cast<std::size_t>(v) * slots];
-      std::fill_n(e, slots, 0.0f);
-      for (std::size_t s = 0; s < fs; ++s) e[slot_of[s]] += evidence[i * fs + s];
+      scatterSlots(&evidence[i * fs], slot_of, &evidence_[static_cast<std::size_t>(v) * slots], slots);
     }
     if (v < refined_weight_.size()) {
       refined_weight_[v] = refined_weight[i];
-      float* l = &log_likelihood_[static_cast<std::size_t>(v) * slots];
-      std::fill_n(l, slots, 0.0f);
-      for (std::size_t s = 0; s < fs; ++s) l[slot_of[s]] += log_likelihood[i * fs + s];
+      scatterSlots(&log_likelihood[i * fs], slot_of, &log_likelihood_[static_cast<std::size_t>(v) * slots], slots);
     }
   }
   return ids;
@@ -166,12 +174,8 @@ void SemanticMesh::saveVoxelSemantics(ArchiveWriter& out, const std::vector<std:
 
 void SemanticMesh::loadVoxelSemantics(ArchiveReader& in, const std::vector<std::uint32_t>& voxels) {
   in.section("voxel-semantics");
-  std::vector<semantics::ClassId> file_slots;
-  in.array(file_slots);
-  if (file_slots.empty() || file_slots.size() > 256) in.fail("a tile state has no semantic slots, or too many");
-  std::vector<std::size_t> slot_of(file_slots.size());
-  for (std::size_t s = 0; s < file_slots.size(); ++s) slot_of[s] = addSemanticClass(file_slots[s]);
-  const std::size_t fs = file_slots.size();
+  const std::vector<std::size_t> slot_of = readSlots(in);
+  const std::size_t fs = slot_of.size();
   const auto weight = readArray<float>(in, voxels.size(), "voxel semantic weights");
   const auto evidence = readArray<float>(in, voxels.size() * fs, "voxel class evidence");
   if (!anyNonZero(weight)) return;
@@ -183,9 +187,7 @@ void SemanticMesh::loadVoxelSemantics(ArchiveReader& in, const std::vector<std::
   }
   for (std::size_t i = 0; i < voxels.size(); ++i) {
     voxel_weight_[voxels[i]] = weight[i];
-    float* e = &voxel_evidence_[static_cast<std::size_t>(voxels[i]) * slots];
-    std::fill_n(e, slots, 0.0f);
-    for (std::size_t s = 0; s < fs; ++s) e[slot_of[s]] += evidence[i * fs + s];
+    scatterSlots(&evidence[i * fs], slot_of, &voxel_evidence_[static_cast<std::size_t>(voxels[i]) * slots], slots);
   }
 }
 

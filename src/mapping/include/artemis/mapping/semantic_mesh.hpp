@@ -192,6 +192,9 @@ class SemanticMesh {
 
  private:
   static constexpr std::size_t kVertexRoom = std::size_t{1} << 22;
+  // Tiles coming back: the slots a tile state was written with, each as this mesh's slot (classes
+  // it lacks are added).
+  std::vector<std::size_t> readSlots(ArchiveReader& in);
   // Reserves room for at least kVertexRoom vertices (twice the present room once past it) in every
   // per-vertex array.
   void growVertexRoom();
