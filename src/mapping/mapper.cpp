@@ -8,9 +8,9 @@
 #include <cmath>
 #include <iterator>
 #include <map>
+#include <optional>
 #include <stdexcept>
 #include <string>
-#include <unordered_set>
 
 #include "artemis/core/timer.hpp"
 
@@ -157,29 +157,44 @@ FrameStats Mapper::integrate(const PointCloud& points_L, const Isometry3d& T_W_L
 
 void Mapper::dropCarvedFaces(const CarveStats& carved) {
   if (carved.vertices.empty()) return;
-  const std::unordered_set<std::uint32_t> removed(carved.vertices.begin(), carved.vertices.end());
-  std::unordered_set<VoxelKey, VoxelKeyHash> seen;
+  // The removed vertices as flags (cleared again at the end): a face is three byte loads.
+  carved_flags_.resize(mesh_.vertexCount(), 0);
+  for (const std::uint32_t id : carved.vertices) carved_flags_[id] = 1;
+  const auto uses = [&](const Face& f) {
+    return (carved_flags_[f[0]] | carved_flags_[f[1]] | carved_flags_[f[2]]) != 0;
+  };
+  // The voxels that lost points and their neighbours, once each.
+  std::vector<VoxelKey> around;
+  around.reserve(carved.voxels.size() * 27);
   for (const std::uint32_t index : carved.voxels) {
     const VoxelKey key = map_.keyAt(index);
     for (int dx = -1; dx <= 1; ++dx) {
       for (int dy = -1; dy <= 1; ++dy) {
-        for (int dz = -1; dz <= 1; ++dz) {
-          const VoxelKey n{key.x + dx, key.y + dy, key.z + dz};
-          const std::vector<Face>* faces = mesh_.voxelFaces(n);
-          if (faces == nullptr || !seen.insert(n).second) continue;
-          const auto uses = [&](const Face& f) {
-            return removed.contains(f[0]) || removed.contains(f[1]) || removed.contains(f[2]);
-          };
-          if (std::none_of(faces->begin(), faces->end(), uses)) continue;
-          std::vector<Face> kept;
-          kept.reserve(faces->size());
-          std::copy_if(faces->begin(), faces->end(), std::back_inserter(kept), [&](const Face& f) { return !uses(f); });
-          mesh_.setVoxelFaces(n, std::move(kept));
-          if (Voxel* owner = map_.find(n)) owner->carved_frame = map_.frame();
-        }
+        for (int dz = -1; dz <= 1; ++dz) around.push_back({key.x + dx, key.y + dy, key.z + dz});
       }
     }
   }
+  std::sort(around.begin(), around.end());
+  around.erase(std::unique(around.begin(), around.end()), around.end());
+  // Their faces are looked at side by side; those that lose faces change in key order.
+  std::vector<std::optional<std::vector<Face>>> kept(around.size());
+  arena_->arena.execute([&] {
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, around.size(), 256), [&](const auto& range) {
+      for (std::size_t i = range.begin(); i < range.end(); ++i) {
+        const std::vector<Face>* faces = mesh_.voxelFaces(around[i]);
+        if (faces == nullptr || std::none_of(faces->begin(), faces->end(), uses)) continue;
+        std::vector<Face>& out = kept[i].emplace();
+        out.reserve(faces->size());
+        std::copy_if(faces->begin(), faces->end(), std::back_inserter(out), [&](const Face& f) { return !uses(f); });
+      }
+    });
+  });
+  for (std::size_t i = 0; i < around.size(); ++i) {
+    if (!kept[i]) continue;
+    mesh_.setVoxelFaces(around[i], std::move(*kept[i]));
+    if (Voxel* owner = map_.find(around[i])) owner->carved_frame = map_.frame();
+  }
+  for (const std::uint32_t id : carved.vertices) carved_flags_[id] = 0;
 }
 
 FusionStats Mapper::fuseLate(const PointCloud& points_L, const Isometry3d& T_W_L, const SemanticInput& semantic) {

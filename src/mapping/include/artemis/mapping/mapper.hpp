@@ -224,6 +224,7 @@ class Mapper {
   TileStore tiles_;
   std::vector<Eigen::Vector3f> points_W_;
   std::vector<std::uint8_t> drop_;
+  std::vector<std::uint8_t> carved_flags_;  // per vertex: removed by this frame's carving (dropCarvedFaces)
   SemanticMesh::Changes reloaded_;  // what reloadTiles changed, for the next frame's change log
   struct Arena;
   std::unique_ptr<Arena> arena_;
