@@ -115,8 +115,11 @@ FrameStats Mapper::integrate(const PointCloud& points_L, const Isometry3d& T_W_L
   const std::size_t vertices_before = mesh_.vertexCount();
   std::vector<VoxelKey> active;
   const bool fuse = semantic != nullptr && semantic->view != nullptr && semantic->observation != nullptr;
+  if (prefault_.valid()) prefault_.get();
+  const std::size_t voxels_before = map_.size();
   arena_->arena.execute([&] { active = map_.insert(points_W, t, mesh_, drop); });
   stats.points_kept = mesh_.vertexCount() - vertices_before;
+  prefaultNextFrame(2 * stats.points_kept, 2 * (map_.size() - voxels_before));
   stats.active_voxels = active.size();
   stats.insert_ms = clock.elapsedMs();
   clock.reset();
@@ -153,6 +156,17 @@ FrameStats Mapper::integrate(const PointCloud& points_L, const Isometry3d& T_W_L
   stats.meshed_voxels = meshVoxels(due, &stats);
   stats.mesh_ms = clock.elapsedMs() - stats.constrain_ms;
   return stats;
+}
+
+void Mapper::prefaultNextFrame(std::size_t vertices, std::size_t voxels) {
+  std::vector<ByteRange> room = mesh_.roomAhead(vertices);
+  const std::vector<ByteRange> voxel_room = map_.roomAhead(voxels);
+  room.insert(room.end(), voxel_room.begin(), voxel_room.end());
+  // populatePages is safe while the arrays are written, and even once one moves (a range no longer
+  // mapped is left alone).
+  prefault_ = std::async(std::launch::async, [room = std::move(room)] {
+    for (const ByteRange& r : room) populatePages(r);
+  });
 }
 
 void Mapper::dropCarvedFaces(const CarveStats& carved) {

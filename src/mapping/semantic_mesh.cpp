@@ -177,6 +177,16 @@ float SemanticMesh::confidence(std::uint32_t v, double lambda) const {
   return static_cast<float>(1.0 - std::exp(-lambda * static_cast<double>(voxelSemanticWeight(v))));
 }
 
+std::vector<ByteRange> SemanticMesh::roomAhead(std::size_t count) const {
+  // The colours catch up with the vertices when the next view is fused (reserveColours).
+  const std::size_t colours = count + positions_.size() - std::min(positions_.size(), colour_mean_.size());
+  return {artemis::roomAhead(positions_, count),   artemis::roomAhead(measured_, count),
+          artemis::roomAhead(normals_, count),     artemis::roomAhead(voxels_, count),
+          artemis::roomAhead(views_, count),       artemis::roomAhead(uids_, count),
+          artemis::roomAhead(voxel_index_, count), artemis::roomAhead(colour_mean_, colours),
+          artemis::roomAhead(colour_var_, colours)};
+}
+
 void SemanticMesh::reserveColours() {
   colour_mean_.resize(positions_.size(), Eigen::Vector3f::Zero());
   colour_var_.resize(positions_.size(), Eigen::Vector3f::Zero());

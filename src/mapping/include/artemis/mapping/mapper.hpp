@@ -7,6 +7,7 @@
 
 #include <filesystem>
 #include <functional>
+#include <future>
 #include <memory>
 #include <set>
 
@@ -179,6 +180,8 @@ class Mapper {
   // those points held up goes at once, and finish() re-meshes the voxels, closing the gaps where
   // the points that stay allow it.
   void dropCarvedFaces(const CarveStats& carved);
+  // Starts providing the pages of room for `vertices` more vertices and `voxels` more voxels.
+  void prefaultNextFrame(std::size_t vertices, std::size_t voxels);
   // Meshes `keys` (1c), cutting the faces the semantic constraint refuses, then moves their
   // vertices (1d); adds the constraint's figures to `stats` when given.
   std::size_t meshVoxels(const std::vector<VoxelKey>& keys, FrameStats* stats = nullptr);
@@ -225,6 +228,9 @@ class Mapper {
   std::vector<Eigen::Vector3f> points_W_;
   std::vector<std::uint8_t> drop_;
   std::vector<std::uint8_t> carved_flags_;  // per vertex: removed by this frame's carving (dropCarvedFaces)
+  // The pages the next frame's vertices and voxels will be written to, provided by a thread of
+  // their own while this frame is carved and meshed (populatePages); waited for by the next frame.
+  std::future<void> prefault_;
   SemanticMesh::Changes reloaded_;  // what reloadTiles changed, for the next frame's change log
   struct Arena;
   std::unique_ptr<Arena> arena_;

@@ -28,6 +28,7 @@
 
 #include <Eigen/Core>
 
+#include "artemis/core/prefault.hpp"
 #include "artemis/mapping/voxel_key.hpp"
 #include "artemis/semantics/vocabulary.hpp"
 
@@ -138,6 +139,9 @@ class SemanticMesh {
   // Makes room for every vertex's colour (call before fuseColour, which may then run concurrently
   // for distinct vertices).
   void reserveColours();
+  // The room reserved past the end of every array that grows with the vertices, for `count` more
+  // (populatePages).
+  [[nodiscard]] std::vector<ByteRange> roomAhead(std::size_t count) const;
   // Fuses an observation `c` with per-channel variance `variance` (> 0) into vertex v's colour: the
   // first sets it, later ones update mean and variance as a Kalman filter does.
   void fuseColour(std::uint32_t v, const Eigen::Vector3f& c, float variance);

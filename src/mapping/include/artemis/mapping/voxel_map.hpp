@@ -101,6 +101,10 @@ class VoxelMap {
   Voxel* find(const VoxelKey& key);
   [[nodiscard]] VoxelKey keyOf(const Eigen::Vector3f& p_W) const { return voxelKeyOf(p_W, inv_voxel_size_); }
   [[nodiscard]] std::size_t size() const { return voxels_.size(); }
+  // The room reserved past the voxels' end for `count` more (populatePages).
+  [[nodiscard]] std::vector<ByteRange> roomAhead(std::size_t count) const {
+    return {artemis::roomAhead(voxels_, count), artemis::roomAhead(keys_, count)};
+  }
   // Points refused so far: not finite, or farther than 1000 km from the origin.
   [[nodiscard]] std::size_t rejectedPoints() const { return rejected_; }
   [[nodiscard]] const VoxelMapParams& params() const { return params_; }
