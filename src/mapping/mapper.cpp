@@ -12,6 +12,7 @@
 #include <stdexcept>
 #include <string>
 
+#include "artemis/core/prefault.hpp"
 #include "artemis/core/timer.hpp"
 
 namespace artemis::mapping {

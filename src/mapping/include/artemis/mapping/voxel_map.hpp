@@ -14,6 +14,7 @@
 
 #include <Eigen/Core>
 
+#include "artemis/core/prefault.hpp"
 #include "artemis/mapping/semantic_mesh.hpp"
 #include "artemis/mapping/voxel_key.hpp"
 
