@@ -21,6 +21,7 @@
 #include "artemis/eval/geometry.hpp"
 #include "artemis/io/ply.hpp"
 #include "artemis/pipeline/run.hpp"
+#include "artemis/pipeline/timing.hpp"
 
 namespace {
 
@@ -99,8 +100,9 @@ int main(int argc, char** argv) {
   fmt::print("  frames 0-9 vs 40-49 (geometry): median {:.1f} vs {:.1f} ms, p95 {:.1f} vs {:.1f} ms\n",
              report->times.summary("geometry", 0, 10).median_ms, report->times.summary("geometry", 40, 50).median_ms,
              report->times.summary("geometry", 0, 10).p95_ms, report->times.summary("geometry", 40, 50).p95_ms);
-  fmt::print("  final meshing {:.0f} ms; {} vertices, {} faces; peak memory {:.0f} MB; {:.1f} s in all\n",
-             report->finish_ms, report->vertices, report->faces, report->peak_rss_mb, run_s);
+  fmt::print(
+      "  final meshing {:.0f} ms; {} vertices, {} faces; peak memory {:.0f} MB, {} page faults; {:.1f} s in all\n",
+      report->finish_ms, report->vertices, report->faces, report->peak_rss_mb, pipeline::pageFaults(), run_s);
 
   // The reference: every range-gated scan with the same poses, 0.05 m voxels (DESIGN.md).
   const auto reference_cloud = datasets::aggregateScans(**dataset, 0.05);

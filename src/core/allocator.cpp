@@ -10,8 +10,9 @@ namespace artemis {
 
 namespace {
 
-constexpr std::array<std::string_view, 3> kTunables = {"glibc.malloc.hugetlb=1", "glibc.malloc.mmap_threshold=33554432",
-                                                       "glibc.malloc.trim_threshold=4294967296"};
+constexpr std::array<std::string_view, 4> kTunables = {"glibc.malloc.hugetlb=1", "glibc.malloc.mmap_threshold=33554432",
+                                                       "glibc.malloc.trim_threshold=4294967296",
+                                                       "glibc.malloc.top_pad=67108864"};
 
 // The tunable's name: what precedes '='.
 std::string_view nameOf(std::string_view tunable) {

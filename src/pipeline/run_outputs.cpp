@@ -119,6 +119,7 @@ std::string timingJson(const RunReport& report) {
   j["stages"] = stages;
   j["finish_ms"] = report.finish_ms;
   j["peak_rss_mb"] = report.peak_rss_mb;
+  j["page_faults"] = report.page_faults;
   j["allocator"] = allocatorTuned() ? "glibc, tuned" : "system";  // see core/allocator.hpp
   j["frames_failed"] = report.frames_failed;
   j["points_in_vehicle_path"] = report.points_in_vehicle_path;
@@ -228,6 +229,7 @@ Status writeRunOutputs(const mapping::Mapper& mapper, const RunParams& params, c
     if (Status s = writeText(out / "registration.json", registrationJson(report)); !s.isOk()) return s;
   }
   report.peak_rss_mb = peakRssMb();
+  report.page_faults = pageFaults();
   return writeText(out / "timing.json", timingJson(report));
 }
 

@@ -1,5 +1,7 @@
 #include "artemis/pipeline/timing.hpp"
 
+#include <sys/resource.h>
+
 #include <algorithm>
 #include <cmath>
 #include <fstream>
@@ -61,6 +63,12 @@ double peakRssMb() {
 
 double residentMb() {
   return statusFieldMb("VmRSS");
+}
+
+std::uint64_t pageFaults() {
+  rusage usage{};
+  if (getrusage(RUSAGE_SELF, &usage) != 0) return 0;
+  return static_cast<std::uint64_t>(usage.ru_minflt) + static_cast<std::uint64_t>(usage.ru_majflt);
 }
 
 }  // namespace artemis::pipeline

@@ -7,14 +7,21 @@
 // virtual machines (measured here: 14.5 us a 4 KiB page), where a KITTI frame took 10-30 ms more
 // for it (median).
 //
-// So `artemis run` and the benchmarks start with three glibc malloc tunables (GLIBC_TUNABLES, read by
+// So `artemis run` and the benchmarks start with four glibc malloc tunables (GLIBC_TUNABLES, read by
 // glibc only at process start, hence a re-execution of the same program with the same arguments
 // and process id; other commands are not worth a second start, which loads the program's
 // libraries again: about 100 ms on a busy 2-core machine):
 //   glibc.malloc.hugetlb=1            transparent huge pages for the heap (one fault per 2 MiB
 //                                     where the system allows them on request, "madvise");
 //   glibc.malloc.mmap_threshold=32 MiB  buffers up to 32 MiB come from the heap, not the kernel;
-//   glibc.malloc.trim_threshold=4 GiB   freed memory stays in the heap for the next frame.
+//   glibc.malloc.trim_threshold=4 GiB   freed memory stays in the heap for the next frame;
+//   glibc.malloc.top_pad=64 MiB        ... on the other threads too. Threads but the main one
+//                                     allocate from arenas made of 64 MiB heaps, and glibc unmaps
+//                                     a heap (other than an arena's first) once frees leave it
+//                                     empty, whatever the trim threshold, unless the pad to keep
+//                                     is a heap's size: so the frame reader's scan and image and
+//                                     the workers' buffers were faulted in afresh, zeroed page by
+//                                     page (a 50-frame KITTI run: 28,500 faults, 4,100 with it).
 // Peak memory grows by about a tenth (whole huge pages). ARTEMIS_ALLOCATOR=system keeps glibc's
 // defaults; GLIBC_TUNABLES that already set any of these are left as they are.
 
@@ -24,7 +31,7 @@
 namespace artemis {
 
 // The GLIBC_TUNABLES value to run with, given the current one (null: unset), or nullopt when it
-// already sets one of the three tunables (the user's choice stands).
+// already sets one of the four tunables (the user's choice stands).
 std::optional<std::string> tunedGlibcTunables(const char* current);
 
 // Re-executes this program with the tunables above when it runs on glibc without them, unless

@@ -13,9 +13,9 @@
 //   <out>/registration.json  with pose refinement: per frame, what ICP did (see registrationJson)
 //   <out>/config.json     the effective settings (given by the caller)
 //   <out>/timing.json     {"frames": N, "stages": {"<stage>": {"median_ms", "p95_ms", "max_ms"}, ...,
-//                          "total": {...}}, "finish_ms", "peak_rss_mb", "frames_failed", "points_in_vehicle_path",
-//                          "points_carved", "holes_filled", "checkpoints": {"written", "last_mb", "max_ms",
-//                          "resumed_at_frame"}}
+//                          "total": {...}}, "finish_ms", "peak_rss_mb", "page_faults", "frames_failed",
+//                          "points_in_vehicle_path", "points_carved", "holes_filled", "checkpoints":
+//                          {"written", "last_mb", "max_ms", "resumed_at_frame"}}
 // Every file is written atomically.
 
 #include <atomic>
@@ -149,6 +149,7 @@ struct RunReport {
   std::size_t holes_filled = 0;              // small holes the final mesh closed (holeFillingFaces)
   std::size_t hole_faces = 0;                // ... with this many faces
   double peak_rss_mb = 0.0;
+  std::uint64_t page_faults = 0;  // of the process, when the outputs were written (timing.hpp)
   std::vector<registration::FrameRegistration> registrations;  // one per mapped frame, with refinement
   std::vector<std::size_t> registered_frames;                  // their recording indices
   std::size_t registration_fallbacks = 0;                      // frames whose prior pose was kept

@@ -2,6 +2,7 @@
 // Per-stage wall time per frame, summarised as median / p95 / max, and the process's peak memory:
 // what timing.json holds.
 
+#include <cstdint>
 #include <map>
 #include <string>
 #include <vector>
@@ -40,5 +41,7 @@ class StageTimes {
 double peakRssMb();
 // Resident set size of this process now in MiB (VmRSS), or 0 where unknown.
 double residentMb();
+// Page faults this process took so far (minor and major: each a page the kernel provided).
+std::uint64_t pageFaults();
 
 }  // namespace artemis::pipeline
