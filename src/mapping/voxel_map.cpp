@@ -223,6 +223,7 @@ void VoxelMap::removePoints(std::uint32_t index, const std::vector<std::uint8_t>
     throw std::invalid_argument("VoxelMap::removePoints: " + std::to_string(remove.size()) + " flags for " +
                                 std::to_string(v.points.size()) + " points");
   }
+  const std::size_t before = v.points.size();
   std::size_t kept = 0;
   v.lo = Eigen::Vector3f::Constant(std::numeric_limits<float>::max());
   v.hi = Eigen::Vector3f::Constant(std::numeric_limits<float>::lowest());
@@ -246,6 +247,9 @@ void VoxelMap::removePoints(std::uint32_t index, const std::vector<std::uint8_t>
   v.sub_cells.resize(kept);
   v.evidence.resize(kept);
   v.points_when_meshed = std::min(v.points_when_meshed, static_cast<std::uint32_t>(kept));
+  // The plane fitted to the points before goes with them: FreeSpaceCarver::planeOf keeps a fit while
+  // the voxel's count of points stays, and a count met again after some went is other points.
+  if (kept != before) v.plane_points = 0;
 }
 
 std::uint32_t VoxelMap::indexOf(const VoxelKey& key) const {

@@ -105,5 +105,28 @@ TEST(VoxelMap, DroppedPointsAreLeftOutButNotRefused) {
   EXPECT_THROW(map.insert(points, {0, 0, 2}, mesh, &short_mask), std::invalid_argument);
 }
 
+// A plane fitted to a voxel's points (FreeSpaceCarver::planeOf) is kept while the voxel holds as
+// many points as it was fitted to; after points went, the same count later is other points.
+TEST(VoxelMap, RemovingPointsForgetsThePlaneFittedToThem) {
+  VoxelMap map({.voxel_size_m = 1.0, .subdivisions = 4});
+  SemanticMesh mesh;
+  const std::vector<Eigen::Vector3f> points{{0.1f, 0.1f, 0.1f}, {0.6f, 0.1f, 0.1f}, {0.1f, 0.6f, 0.1f}};
+  map.insert(points, {0, 0, 2}, mesh);
+  const std::uint32_t index = map.indexOf(map.keyOf(points[0]));
+  ASSERT_NE(index, VoxelMap::kNoVertex);
+  Voxel& v = map.voxelAt(index);
+  ASSERT_EQ(v.points.size(), 3u);
+  v.plane_points = 3;  // as a fit to these three points leaves it
+  std::vector<std::uint32_t> removed;
+  map.removePoints(index, {0, 0, 0}, removed);  // nothing goes: the fit stands
+  EXPECT_EQ(v.plane_points, 3u);
+  map.removePoints(index, {0, 1, 0}, removed);
+  EXPECT_EQ(removed.size(), 1u);
+  EXPECT_EQ(v.plane_points, 0u);
+  map.insert({{0.6f, 0.6f, 0.1f}}, {0, 0, 2}, mesh);  // three points again, not those of the fit
+  EXPECT_EQ(v.points.size(), 3u);
+  EXPECT_NE(v.plane_points, v.points.size());
+}
+
 }  // namespace
 }  // namespace artemis::mapping
