@@ -12,7 +12,7 @@ packages=(
   clang libclang-rt-dev
   # core dependencies (DESIGN.md)
   libeigen3-dev libtbb-dev libcgal-dev libembree-dev libnanoflann-dev
-  libstb-dev libpng-dev zlib1g-dev libtinygltf-dev libcli11-dev libspdlog-dev libfmt-dev
+  libstb-dev libpng-dev libdeflate-dev zlib1g-dev libtinygltf-dev libcli11-dev libspdlog-dev libfmt-dev
   nlohmann-json3-dev libcpp-httplib-dev wordnet-dev wordnet-base
   # the dense segmenter: OpenCV's dnn and imgproc modules only (not the full libopencv-dev)
   libopencv-dnn-dev libopencv-imgproc-dev

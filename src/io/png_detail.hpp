@@ -28,4 +28,13 @@ struct PngHeader {
   int color_type = 0;
 };
 
+// The rows of a PNG file (`data`, `size` bytes, whose header says `header`) of 8-bit samples,
+// `channels` a pixel, not interlaced: its IDAT chunks (each CRC checked) inflated whole by
+// libdeflate and unfiltered, into `samples` (width * channels bytes a row, no filter bytes). False
+// where it cannot read them all (a chunk cut short, a CRC that does not match, a stream that ends
+// before the rows or runs on past them, an undefined filter): libpng then reads the file, and its
+// image or its error stands.
+bool quickRows8(const unsigned char* data, std::size_t size, const PngHeader& header, int channels,
+                std::vector<unsigned char>& samples);
+
 }  // namespace artemis::io::detail

@@ -226,10 +226,27 @@ ImageU8 toImage(const std::vector<unsigned char>& samples, const PngHeader& head
   return image;
 }
 
+// The rows of an 8-bit grey, grey+alpha, RGB or RGBA image, not interlaced and without a tRNS chunk
+// (transparency that would become alpha), read by quickRows8; else nothing (libpng reads it).
+bool readQuickly(const std::vector<unsigned char>& bytes, PngDecoder& decoder, const PngHeader& header,
+                 std::vector<unsigned char>& samples, int* channels) {
+  if (header.bit_depth != 8 || header.color_type == PNG_COLOR_TYPE_PALETTE ||
+      png_get_interlace_type(decoder.png(), decoder.info()) != PNG_INTERLACE_NONE ||
+      png_get_valid(decoder.png(), decoder.info(), PNG_INFO_tRNS) != 0) {
+    return false;
+  }
+  *channels = samplesPerPixel(header.color_type);
+  return detail::quickRows8(bytes.data(), bytes.size(), header, *channels, samples);
+}
+
 Result<ImageU8> decode8(const std::vector<unsigned char>& bytes, const std::string& file, int desired_channels) {
   PngDecoder decoder(bytes, file);
   auto header = decoder.header();
   if (!header) return header.status();
+  std::vector<unsigned char> quick;
+  if (int channels = 0; readQuickly(bytes, decoder, *header, quick, &channels)) {
+    return toImage(quick, *header, channels, desired_channels != 0 ? desired_channels : channels);
+  }
   int channels = 0;
   std::size_t row_bytes = 0;
   if (!prepare8(decoder.png(), decoder.info(), &channels, &row_bytes)) return decoder.failed();

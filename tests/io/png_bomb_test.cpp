@@ -11,33 +11,17 @@
 #include <string>
 
 #include "artemis/io/png.hpp"
+#include "png_chunks.hpp"
 #include "support/test_support.hpp"
 
 namespace artemis::io {
 namespace {
 
-void appendBigEndian(std::string& out, std::uint32_t value) {
-  for (int shift = 24; shift >= 0; shift -= 8) out.push_back(static_cast<char>((value >> shift) & 0xFF));
-}
-
-void appendChunk(std::string& out, const std::string& type, const std::string& data) {
-  appendBigEndian(out, static_cast<std::uint32_t>(data.size()));
-  const std::string body = type + data;
-  out += body;
-  appendBigEndian(out, static_cast<std::uint32_t>(
-                           crc32(0, reinterpret_cast<const Bytef*>(body.data()), static_cast<uInt>(body.size()))));
-}
-
 // A PNG file: signature, IHDR (8-bit, given colour type), one IDAT holding `idat`, IEND.
 std::string pngFile(std::uint32_t width, std::uint32_t height, int colour_type, const std::string& idat) {
-  std::string file("\x89PNG\r\n\x1a\n", 8);
-  std::string ihdr;
-  appendBigEndian(ihdr, width);
-  appendBigEndian(ihdr, height);
-  ihdr += std::string{'\x08', static_cast<char>(colour_type), '\0', '\0', '\0'};
-  appendChunk(file, "IHDR", ihdr);
-  appendChunk(file, "IDAT", idat);
-  appendChunk(file, "IEND", "");
+  std::string file = test_png::pngStart(width, height, colour_type);
+  test_png::appendChunk(file, "IDAT", idat);
+  test_png::appendChunk(file, "IEND", "");
   return file;
 }
 
