@@ -21,6 +21,18 @@ inline void appendChunk(std::string& out, const std::string& type, const std::st
                            crc32(0, reinterpret_cast<const Bytef*>(body.data()), static_cast<uInt>(body.size()))));
 }
 
+// `raw` as one zlib stream (what a PNG's IDAT chunks hold), empty if zlib fails.
+inline std::string zlibStream(const std::string& raw) {
+  uLongf size = compressBound(static_cast<uLong>(raw.size()));
+  std::string stream(size, '\0');
+  if (compress(reinterpret_cast<Bytef*>(stream.data()), &size, reinterpret_cast<const Bytef*>(raw.data()),
+               static_cast<uLong>(raw.size())) != Z_OK) {
+    return {};
+  }
+  stream.resize(size);
+  return stream;
+}
+
 // The signature and an IHDR chunk: 8-bit samples of `colour_type`, not interlaced.
 inline std::string pngStart(std::uint32_t width, std::uint32_t height, int colour_type) {
   std::string file("\x89PNG\r\n\x1a\n", 8);

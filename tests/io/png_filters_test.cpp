@@ -62,16 +62,6 @@ std::string filteredRows(const std::vector<unsigned char>& pixels, int width, in
   return raw;
 }
 
-std::string deflated(const std::string& raw) {
-  uLongf size = compressBound(static_cast<uLong>(raw.size()));
-  std::string stream(size, '\0');
-  EXPECT_EQ(compress(reinterpret_cast<Bytef*>(stream.data()), &size, reinterpret_cast<const Bytef*>(raw.data()),
-                     static_cast<uLong>(raw.size())),
-            Z_OK);
-  stream.resize(size);
-  return stream;
-}
-
 // A PNG file of 8-bit samples; the image data split into IDAT chunks of at most `chunk` bytes,
 // after the `before_idat` chunks (type, data).
 std::string chunkedPngFile(int width, int height, int colour_type, const std::string& stream, std::size_t chunk,
@@ -104,8 +94,8 @@ TEST(PngFilters, EveryFilterOfEveryEightBitColourTypeReadsExactly) {
       const int channels = channelsOf(colour_type);
       const auto pixels = noise(static_cast<std::size_t>(width * height * channels), 7u + colour_type);
       const auto path = dir / ("filters" + std::to_string(colour_type) + "_" + std::to_string(chunk) + ".png");
-      std::ofstream(path, std::ios::binary)
-          << chunkedPngFile(width, height, colour_type, deflated(filteredRows(pixels, width, height, channels)), chunk);
+      std::ofstream(path, std::ios::binary) << chunkedPngFile(
+          width, height, colour_type, test_png::zlibStream(filteredRows(pixels, width, height, channels)), chunk);
       auto read = readPng8(path);
       ASSERT_TRUE(read.isOk()) << read.status().message();
       EXPECT_EQ(read->width(), width);
@@ -128,7 +118,7 @@ TEST(PngFilters, TransparencyChunksStillBecomeAlpha) {
   std::string trns;
   trns += std::string{'\0', '\x07'};
   std::ofstream(dir / "trns.png", std::ios::binary)
-      << chunkedPngFile(6, 4, 0, deflated(filteredRows(pixels, 6, 4, 1)), 1 << 20, {{"tRNS", trns}});
+      << chunkedPngFile(6, 4, 0, test_png::zlibStream(filteredRows(pixels, 6, 4, 1)), 1 << 20, {{"tRNS", trns}});
   auto read = readPng8(dir / "trns.png", 2);
   ASSERT_TRUE(read.isOk()) << read.status().message();
   EXPECT_EQ(read->at(0, 0, 0), 7);
@@ -140,7 +130,7 @@ TEST(PngFilters, TransparencyChunksStillBecomeAlpha) {
 TEST(PngFilters, DamagedImageDataIsRefusedAsBefore) {
   test::TempDir dir;
   const auto pixels = noise(16 * 8 * 3, 3);
-  std::string file = chunkedPngFile(16, 8, 2, deflated(filteredRows(pixels, 16, 8, 3)), 1 << 20);
+  std::string file = chunkedPngFile(16, 8, 2, test_png::zlibStream(filteredRows(pixels, 16, 8, 3)), 1 << 20);
   // A byte of the image data changed: its chunk's CRC no longer matches.
   std::string damaged = file;
   damaged[8 + 25 + 8 + 10] = static_cast<char>(damaged[8 + 25 + 8 + 10] ^ 0x40);
@@ -151,7 +141,7 @@ TEST(PngFilters, DamagedImageDataIsRefusedAsBefore) {
   // An undefined filter type (5), with the CRC made right.
   std::string raw = filteredRows(pixels, 16, 8, 3);
   raw[3 * (16 * 3 + 1)] = 5;
-  std::ofstream(dir / "filter.png", std::ios::binary) << chunkedPngFile(16, 8, 2, deflated(raw), 1 << 20);
+  std::ofstream(dir / "filter.png", std::ios::binary) << chunkedPngFile(16, 8, 2, test_png::zlibStream(raw), 1 << 20);
   auto bad_filter = readPng8(dir / "filter.png");
   ASSERT_FALSE(bad_filter.isOk());
   EXPECT_NE(bad_filter.status().message().find("filter.png: bad PNG"), std::string::npos)
