@@ -26,8 +26,9 @@ libdeflate_decompressor* decompressor() {
   return d.get();
 }
 
-// The IDAT chunks' data, in order, each checked against its CRC; empty where a chunk is cut short,
-// a CRC does not match, or there is no IDAT. `direct` is set, and nothing copied, when there is one.
+// The IDAT chunks' data, in order, each checked against its CRC, at *direct (*direct_size bytes):
+// in the file itself where there is one chunk, else joined in `joined`. False where a chunk is cut
+// short, a CRC does not match, or there is no IDAT.
 bool gatherIdat(const unsigned char* data, std::size_t size, std::vector<unsigned char>& joined,
                 const unsigned char** direct, std::size_t* direct_size) {
   std::size_t pos = 8;  // past the signature
