@@ -15,10 +15,6 @@ namespace artemis::io::detail {
 
 namespace {
 
-std::uint32_t bigEndian32(const unsigned char* p) {
-  return (std::uint32_t{p[0]} << 24) | (std::uint32_t{p[1]} << 16) | (std::uint32_t{p[2]} << 8) | std::uint32_t{p[3]};
-}
-
 // One decompressor a thread, kept: allocating it costs more than a small image's inflation.
 libdeflate_decompressor* decompressor() {
   thread_local const std::unique_ptr<libdeflate_decompressor, decltype(&libdeflate_free_decompressor)> d(
@@ -34,14 +30,14 @@ bool gatherIdat(const unsigned char* data, std::size_t size, std::vector<unsigne
   std::size_t pos = 8;  // past the signature
   std::size_t chunks = 0;
   while (pos + 12 <= size) {
-    const std::uint32_t length = bigEndian32(data + pos);
+    const std::uint32_t length = png_get_uint_32(data + pos);
     if (length > size - pos - 12) return false;
     const unsigned char* type = data + pos + 4;
     const bool idat = std::memcmp(type, "IDAT", 4) == 0;
     if (!idat && chunks > 0) break;  // the image data are consecutive chunks: they ended
     if (std::memcmp(type, "IEND", 4) == 0) break;
     if (idat) {
-      const std::uint32_t crc = bigEndian32(data + pos + 8 + length);
+      const std::uint32_t crc = png_get_uint_32(data + pos + 8 + length);
       if (libdeflate_crc32(0, type, std::size_t{length} + 4) != crc) return false;
       if (chunks == 0) {
         *direct = data + pos + 8;

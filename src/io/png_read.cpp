@@ -230,7 +230,7 @@ ImageU8 toImage(const std::vector<unsigned char>& samples, const PngHeader& head
 // (transparency that would become alpha), read by quickRows8; else nothing (libpng reads it).
 bool readQuickly(const std::vector<unsigned char>& bytes, PngDecoder& decoder, const PngHeader& header,
                  std::vector<unsigned char>& samples, int* channels) {
-  if (header.bit_depth != 8 || header.color_type == PNG_COLOR_TYPE_PALETTE ||
+  if (header.color_type == PNG_COLOR_TYPE_PALETTE ||
       png_get_interlace_type(decoder.png(), decoder.info()) != PNG_INTERLACE_NONE ||
       png_get_valid(decoder.png(), decoder.info(), PNG_INFO_tRNS) != 0) {
     return false;
