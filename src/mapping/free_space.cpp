@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <optional>
+#include <utility>
 
 #include "artemis/core/timer.hpp"
 #include "range_image.hpp"
@@ -52,17 +53,14 @@ FreeSpaceCarver::~FreeSpaceCarver() = default;
 CarveStats FreeSpaceCarver::carve(const std::vector<Eigen::Vector3f>& points_L, const Isometry3d& T_W_L, VoxelMap& map,
                                   const std::vector<VoxelKey>& active) {
   CarveStats stats;
-  if (!params_.enabled) return stats;
+  const bool prepared = std::exchange(prepared_, false);
+  if (!params_.enabled || !usablePose(T_W_L)) return stats;
   const Eigen::Vector3f sensor_W = T_W_L.translation().cast<float>();
-  if (!T_W_L.matrix().allFinite() || !(sensor_W.cwiseAbs().maxCoeff() < 1e6f)) return stats;  // a broken pose
   Stopwatch clock;
+  if (!prepared) prepare(points_L, T_W_L);
+  prepared_ = false;
   Flags flags;
   stats.removed_by_vehicle = flagVehicleBox(T_W_L, map, flags);
-  current_.R_L_W = T_W_L.linear().cast<float>().transpose();
-  current_.t_L_W = -(current_.R_L_W * sensor_W);
-  current_.image->build(points_L, static_cast<float>(params_.min_return_range_m), std::numeric_limits<float>::max(),
-                        kGrazingSlope);
-  ground_ = FrameGround(points_L, T_W_L);
   const std::array<const Sweep*, 1> now{&current_};
   countMisses(now, Tested::kOld, voxelsNear(sensor_W, map), map, flags, stats);
   if (!earlier_.empty()) {
@@ -92,6 +90,21 @@ CarveStats FreeSpaceCarver::carve(const std::vector<Eigen::Vector3f>& points_L, 
   }
   stats.ms = clock.elapsedMs();
   return stats;
+}
+
+bool FreeSpaceCarver::usablePose(const Isometry3d& T_W_L) {
+  return T_W_L.matrix().allFinite() && T_W_L.translation().cwiseAbs().maxCoeff() < 1e6;
+}
+
+void FreeSpaceCarver::prepare(const std::vector<Eigen::Vector3f>& points_L, const Isometry3d& T_W_L) {
+  prepared_ = false;
+  if (!params_.enabled || !usablePose(T_W_L)) return;  // carve() does nothing with a broken pose
+  current_.R_L_W = T_W_L.linear().cast<float>().transpose();
+  current_.t_L_W = -(current_.R_L_W * T_W_L.translation().cast<float>());
+  current_.image->build(points_L, static_cast<float>(params_.min_return_range_m), std::numeric_limits<float>::max(),
+                        kGrazingSlope);
+  ground_ = FrameGround(points_L, T_W_L);
+  prepared_ = true;
 }
 
 std::size_t FreeSpaceCarver::flagVehicleBox(const Isometry3d& T_W_L, const VoxelMap& map, Flags& flags) const {

@@ -3,6 +3,7 @@
 #include <tbb/blocked_range.h>
 #include <tbb/parallel_for.h>
 #include <tbb/task_arena.h>
+#include <tbb/task_group.h>
 
 #include <algorithm>
 #include <cmath>
@@ -79,6 +80,11 @@ FrameStats Mapper::integrate(const PointCloud& points_L, const Isometry3d& T_W_L
   mesh_.addChanges(reloaded_);  // the tiles loaded back before this frame
   reloaded_ = {};
   Stopwatch clock;
+  // The carver's look at the frame alone (its range image, its ground) needs nothing of the map: it
+  // goes on another core while this thread inserts the frame, which it does mostly alone (in scan
+  // order). Isolated, this thread's parallel loops until then do not take it up.
+  tbb::task_group carver_look;
+  arena_->arena.execute([&] { carver_look.run([&] { carver_.prepare(points_L.points, T_W_L); }); });
   const Eigen::Matrix3f R = T_W_L.linear().cast<float>();
   const Eigen::Vector3f t = T_W_L.translation().cast<float>();
   std::vector<Eigen::Vector3f>& points_W = points_W_;  // reused: no fresh pages every frame
@@ -104,8 +110,10 @@ FrameStats Mapper::integrate(const PointCloud& points_L, const Isometry3d& T_W_L
     swept_.add(T_W_L);
     swept_.focus(t, std::min(reach, 1000.0f));
     arena_->arena.execute([&] {
-      tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points_W.size(), 4096), [&](const auto& range) {
-        for (std::size_t i = range.begin(); i < range.end(); ++i) drop_[i] = swept_.contains(points_W[i]) ? 1 : 0;
+      tbb::this_task_arena::isolate([&] {
+        tbb::parallel_for(tbb::blocked_range<std::size_t>(0, points_W.size(), 4096), [&](const auto& range) {
+          for (std::size_t i = range.begin(); i < range.end(); ++i) drop_[i] = swept_.contains(points_W[i]) ? 1 : 0;
+        });
       });
     });
     stats.points_in_vehicle_path = static_cast<std::size_t>(std::count(drop_.begin(), drop_.end(), std::uint8_t{1}));
@@ -118,7 +126,10 @@ FrameStats Mapper::integrate(const PointCloud& points_L, const Isometry3d& T_W_L
   const bool fuse = semantic != nullptr && semantic->view != nullptr && semantic->observation != nullptr;
   if (prefault_.valid()) prefault_.get();
   const std::size_t voxels_before = map_.size();
-  arena_->arena.execute([&] { active = map_.insert(points_W, t, mesh_, drop); });
+  arena_->arena.execute([&] {
+    tbb::this_task_arena::isolate([&] { active = map_.insert(points_W, t, mesh_, drop); });
+    carver_look.wait();
+  });
   stats.points_kept = mesh_.vertexCount() - vertices_before;
   prefaultNextFrame(2 * stats.points_kept, 2 * (map_.size() - voxels_before));
   stats.active_voxels = active.size();

@@ -220,5 +220,35 @@ TEST(FreeSpace, SameMapOnOneThreadAndMany) {
   EXPECT_EQ(one.faces, many.faces);
 }
 
+// The mapper has the carver look at each frame alone (prepare: its range image and ground) while
+// the frame is inserted; carving then removes exactly what a carver that prepares itself removes.
+TEST(FreeSpace, ACarverPreparedAheadCarvesAsOneThatPreparesItself) {
+  struct Lane {
+    VoxelMap map{VoxelMapParams{}};
+    SemanticMesh mesh;
+    FreeSpaceCarver carver{FreeSpaceParams{}, MesherParams{}, MapperParams{}.vehicle_box_L};
+  };
+  Lane ahead;
+  Lane itself;
+  std::size_t removed = 0;
+  for (int k = 0; k < kFrames; ++k) {
+    const PointCloud scan = scanAt(k, true);
+    const Isometry3d T_W_L = poseAt(k);
+    std::vector<Vector3f> points_W;
+    for (const Vector3f& p : scan.points) points_W.push_back(T_W_L.cast<float>() * p);
+    const Vector3f sensor_W = T_W_L.translation().cast<float>();
+    ahead.carver.prepare(scan.points, T_W_L);
+    const std::vector<VoxelKey> active = ahead.map.insert(points_W, sensor_W, ahead.mesh);
+    ASSERT_EQ(itself.map.insert(points_W, sensor_W, itself.mesh), active);
+    const CarveStats a = ahead.carver.carve(scan.points, T_W_L, ahead.map, active);
+    const CarveStats b = itself.carver.carve(scan.points, T_W_L, itself.map, active);
+    ASSERT_EQ(a.vertices, b.vertices) << "frame " << k;
+    ASSERT_EQ(a.voxels, b.voxels) << "frame " << k;
+    EXPECT_EQ(a.points_tested, b.points_tested);
+    removed += a.vertices.size();
+  }
+  EXPECT_GT(removed, 1000u);  // the cars' trails went
+}
+
 }  // namespace
 }  // namespace artemis::mapping

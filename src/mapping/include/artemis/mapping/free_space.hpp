@@ -125,6 +125,10 @@ class FreeSpaceCarver {
   // calling TBB arena; results do not depend on the thread count.
   CarveStats carve(const std::vector<Eigen::Vector3f>& points_L, const Isometry3d& T_W_L, VoxelMap& map,
                    const std::vector<VoxelKey>& active);
+  // What carve() needs of the frame alone, not of the map: the returns' range image and the frame's
+  // ground. Called before carve() with the same frame, it may run while the frame is inserted (the
+  // mapper does so, on a core the insertion leaves idle); carve() then uses it, else prepares itself.
+  void prepare(const std::vector<Eigen::Vector3f>& points_L, const Isometry3d& T_W_L);
 
   [[nodiscard]] const FreeSpaceParams& params() const { return params_; }
 
@@ -173,8 +177,12 @@ class FreeSpaceCarver {
   FreeSpaceParams params_;
   MesherParams mesher_;
   Eigen::AlignedBox3f vehicle_box_L_;
+  // Whether T_W_L can be carved with (finite, within 1000 km).
+  [[nodiscard]] static bool usablePose(const Isometry3d& T_W_L);
+
   Sweep current_;
   FrameGround ground_;         // the current frame's: which level points are ground
+  bool prepared_ = false;      // prepare() ran for the frame carve() is next called with
   std::deque<Sweep> earlier_;  // the last lookback_frames sweeps, newest first
 };
 
