@@ -4,6 +4,7 @@
 #include <tbb/enumerable_thread_specific.h>
 #include <tbb/parallel_for.h>
 #include <tbb/parallel_invoke.h>
+#include <tbb/task_group.h>
 
 #include <algorithm>
 #include <array>
@@ -72,6 +73,18 @@ RefinementStats Refinement::refine(const VoxelMap& map, SemanticMesh& mesh, cons
   }
   const Isometry3d T_W_C = T_W_L * view.T_L_C;
 
+  // The frame's LiDAR depth, its least within the window: bridges the gaps between beams and marks
+  // the pixels just beside a nearer object's silhouette. On another core, while the mesh in view is
+  // culled and rendered.
+  const bool lidar = input.points_L != nullptr && params_.lidar_window_px >= 0;
+  tbb::task_group lidar_depth;
+  if (lidar) {
+    lidar_depth.run([&] {
+      projectDepth(*input.points_L, view, camera.width_px, camera.height_px, lidar_);
+      minFilter(lidar_.nearest, params_.lidar_window_px);
+    });
+  }
+
   // 1. Culling: blocks, then voxels.
   Stopwatch clock;
   stats.voxels = voxelsInView(map, camera, T_W_C, params_.max_range_m);
@@ -91,14 +104,14 @@ RefinementStats Refinement::refine(const VoxelMap& map, SemanticMesh& mesh, cons
   render_view.T_W_C = T_W_C;
   render_view.far_m = params_.max_range_m * 2.0;
   render::Picture reference = render::rasterize({mesh.positions(), faces, {}}, render_view);
-  if (input.points_L != nullptr && params_.lidar_window_px >= 0) {
-    // The frame's LiDAR depth, its least within the window: bridges the gaps between beams and
-    // marks the pixels just beside a nearer object's silhouette.
-    projectDepth(*input.points_L, view, camera.width_px, camera.height_px, lidar_);
-    minFilter(lidar_.nearest, params_.lidar_window_px);
+  lidar_depth.wait();
+  if (lidar) {
     std::vector<float>& z = reference.depth.data();
-    const std::vector<float>& lidar = lidar_.nearest.data();
-    for (std::size_t k = 0; k < std::min(z.size(), lidar.size()); ++k) z[k] = std::min(z[k], lidar[k]);
+    const std::vector<float>& nearest = lidar_.nearest.data();
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, std::min(z.size(), nearest.size()), 16384),
+                      [&](const auto& range) {
+                        for (std::size_t k = range.begin(); k < range.end(); ++k) z[k] = std::min(z[k], nearest[k]);
+                      });
   }
   ViewMemory* memory = texture ? input.memory : nullptr;
   if (memory != nullptr) {
@@ -106,11 +119,14 @@ RefinementStats Refinement::refine(const VoxelMap& map, SemanticMesh& mesh, cons
     const std::vector<float>& z = reference.depth.data();
     std::vector<std::uint16_t>& q = memory->depth.data();
     constexpr float kMaxSteps = static_cast<float>(ViewMemory::kNoDepth - 1);
-    for (std::size_t k = 0; k < q.size(); ++k) {  // a surface beyond 131 m stays one, at 131 m
-      q[k] = std::isfinite(z[k])
-                 ? static_cast<std::uint16_t>(std::lround(std::clamp(z[k] / ViewMemory::kDepthStepM, 0.0f, kMaxSteps)))
-                 : ViewMemory::kNoDepth;
-    }
+    tbb::parallel_for(tbb::blocked_range<std::size_t>(0, q.size(), 16384), [&](const auto& range) {
+      for (std::size_t k = range.begin(); k < range.end(); ++k) {  // a surface beyond 131 m stays one, at 131 m
+        q[k] =
+            std::isfinite(z[k])
+                ? static_cast<std::uint16_t>(std::lround(std::clamp(z[k] / ViewMemory::kDepthStepM, 0.0f, kMaxSteps)))
+                : ViewMemory::kNoDepth;
+      }
+    });
     memory->T_W_C = T_W_C;
     memory->vertices = static_cast<std::uint32_t>(mesh.vertexCount());
   }
@@ -150,7 +166,6 @@ RefinementStats Refinement::refine(const VoxelMap& map, SemanticMesh& mesh, cons
     // A vertex this frame's LiDAR saw through (every return around its pixel lies well behind it)
     // was not there when the image was taken, such as the trail a moving car left: the pixel shows
     // what lies behind, so it says nothing of the vertex's class.
-    const bool lidar = input.points_L != nullptr && params_.lidar_window_px >= 0;
     const auto seen_through = [&](const Candidate& c) {
       if (!lidar) return false;
       const float d = lidar_.nearest.at(c.u, c.v);
