@@ -179,6 +179,7 @@ void Mapper::prefaultNextFrame(std::size_t vertices, std::size_t voxels) {
   prefault_ = std::async(std::launch::async, [room = std::move(room)] {
     for (const ByteRange& r : room) populatePages(r);
   });
+  heap_prefault_.request();
 }
 
 void Mapper::dropCarvedFaces(const CarveStats& carved) {

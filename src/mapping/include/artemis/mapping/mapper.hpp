@@ -11,6 +11,7 @@
 #include <memory>
 #include <set>
 
+#include "artemis/core/heap_prefaulter.hpp"
 #include "artemis/core/point_cloud.hpp"
 #include "artemis/core/transform.hpp"
 #include "artemis/mapping/free_space.hpp"
@@ -231,6 +232,9 @@ class Mapper {
   // The pages the next frame's vertices and voxels will be written to, provided by a thread of
   // their own while this frame is carved and meshed (populatePages); waited for by the next frame.
   std::future<void> prefault_;
+  // The heap's pages past its last allocation (the voxels' and faces' own arrays), asked for each
+  // frame and never waited for.
+  HeapPrefaulter heap_prefault_{std::size_t{16} << 20};
   SemanticMesh::Changes reloaded_;  // what reloadTiles changed, for the next frame's change log
   struct Arena;
   std::unique_ptr<Arena> arena_;
