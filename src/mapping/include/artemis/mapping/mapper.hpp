@@ -183,6 +183,8 @@ class Mapper {
   void dropCarvedFaces(const CarveStats& carved);
   // Starts providing the pages of room for `vertices` more vertices and `voxels` more voxels.
   void prefaultNextFrame(std::size_t vertices, std::size_t voxels);
+  // The keys of `voxels` (indices) and of their 26 neighbours, sorted, once each.
+  [[nodiscard]] std::vector<VoxelKey> keysAround(const std::vector<std::uint32_t>& voxels) const;
   // Meshes `keys` (1c), cutting the faces the semantic constraint refuses, then moves their
   // vertices (1d); adds the constraint's figures to `stats` when given.
   std::size_t meshVoxels(const std::vector<VoxelKey>& keys, FrameStats* stats = nullptr);
