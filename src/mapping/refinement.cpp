@@ -36,6 +36,27 @@ using detail::luminance;
 using detail::ViewSampler;
 using detail::weigh;
 
+// The faces of `voxels`, voxel after voxel. Looked up (a hash probe each) and copied side by side.
+std::vector<Face> facesOf(const VoxelMap& map, const SemanticMesh& mesh, const std::vector<std::uint32_t>& voxels) {
+  std::vector<const std::vector<Face>*> lists(voxels.size());
+  std::vector<std::size_t> offsets(voxels.size() + 1, 0);
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, voxels.size(), 1024), [&](const auto& range) {
+    for (std::size_t i = range.begin(); i < range.end(); ++i) {
+      lists[i] = mesh.voxelFaces(map.keyAt(voxels[i]));
+      offsets[i + 1] = lists[i] != nullptr ? lists[i]->size() : 0;
+    }
+  });
+  for (std::size_t i = 0; i < voxels.size(); ++i) offsets[i + 1] += offsets[i];
+  std::vector<Face> faces(offsets.back());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, voxels.size(), 1024), [&](const auto& range) {
+    for (std::size_t i = range.begin(); i < range.end(); ++i) {
+      if (lists[i] != nullptr)
+        std::copy(lists[i]->begin(), lists[i]->end(), faces.begin() + static_cast<std::ptrdiff_t>(offsets[i]));
+    }
+  });
+  return faces;
+}
+
 }  // namespace
 
 Refinement::Refinement(const RefinementParams& params, double background_score, const GeometricPriorParams& geometry)
@@ -94,10 +115,7 @@ RefinementStats Refinement::refine(const VoxelMap& map, SemanticMesh& mesh, cons
 
   // 2. The reference depth: the faces of the voxels in view, rendered from the camera.
   clock.reset();
-  std::vector<std::array<std::uint32_t, 3>> faces;
-  for (const std::uint32_t index : voxels) {
-    if (const auto* f = mesh.voxelFaces(map.keyAt(index))) faces.insert(faces.end(), f->begin(), f->end());
-  }
+  const std::vector<Face> faces = facesOf(map, mesh, voxels);
   stats.faces_rendered = faces.size();
   render::View render_view;
   render_view.camera = camera;
