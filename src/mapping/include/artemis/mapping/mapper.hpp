@@ -183,6 +183,9 @@ class Mapper {
   void dropCarvedFaces(const CarveStats& carved);
   // Starts providing the pages of room for `vertices` more vertices and `voxels` more voxels.
   void prefaultNextFrame(std::size_t vertices, std::size_t voxels);
+  // The voxels of `active` whose points grew enough since they were last meshed (or that have
+  // enough for a first mesh), in the order given.
+  [[nodiscard]] std::vector<VoxelKey> dueForMeshing(const std::vector<VoxelKey>& active) const;
   // The keys of `voxels` (indices) and of their 26 neighbours, sorted, once each.
   [[nodiscard]] std::vector<VoxelKey> keysAround(const std::vector<std::uint32_t>& voxels) const;
   // Meshes `keys` (1c), cutting the faces the semantic constraint refuses, then moves their
