@@ -150,6 +150,8 @@ class FreeSpaceCarver {
   static std::unique_ptr<detail::RangeImage> newSweepImage();
   using Flags = std::unordered_map<std::uint32_t, std::vector<std::uint8_t>>;  // voxel -> per point: remove
 
+  // Whether T_W_L can be carved with (finite, within 1000 km).
+  [[nodiscard]] static bool usablePose(const Isometry3d& T_W_L);
   // Flags the points in the vehicle's box at T_W_L; returns how many.
   std::size_t flagVehicleBox(const Isometry3d& T_W_L, const VoxelMap& map, Flags& flags) const;
   // The voxels in blocks within max_range of `sensor_W`.
@@ -177,9 +179,6 @@ class FreeSpaceCarver {
   FreeSpaceParams params_;
   MesherParams mesher_;
   Eigen::AlignedBox3f vehicle_box_L_;
-  // Whether T_W_L can be carved with (finite, within 1000 km).
-  [[nodiscard]] static bool usablePose(const Isometry3d& T_W_L);
-
   Sweep current_;
   FrameGround ground_;         // the current frame's: which level points are ground
   bool prepared_ = false;      // prepare() ran for the frame carve() is next called with
