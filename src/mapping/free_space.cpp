@@ -53,12 +53,14 @@ FreeSpaceCarver::~FreeSpaceCarver() = default;
 CarveStats FreeSpaceCarver::carve(const std::vector<Eigen::Vector3f>& points_L, const Isometry3d& T_W_L, VoxelMap& map,
                                   const std::vector<VoxelKey>& active) {
   CarveStats stats;
-  const bool prepared = std::exchange(prepared_, false);
-  if (!params_.enabled || !usablePose(T_W_L)) return stats;
+  if (!params_.enabled || !usablePose(T_W_L)) {
+    prepared_ = false;
+    return stats;
+  }
   const Eigen::Vector3f sensor_W = T_W_L.translation().cast<float>();
   Stopwatch clock;
-  if (!prepared) prepare(points_L, T_W_L);
-  prepared_ = false;
+  if (!prepared_) prepare(points_L, T_W_L);
+  prepared_ = false;  // what prepare() made is this frame's from here on
   Flags flags;
   stats.removed_by_vehicle = flagVehicleBox(T_W_L, map, flags);
   const std::array<const Sweep*, 1> now{&current_};

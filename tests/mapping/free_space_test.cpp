@@ -220,6 +220,27 @@ TEST(FreeSpace, SameMapOnOneThreadAndMany) {
   EXPECT_EQ(one.faces, many.faces);
 }
 
+// A face that used a carved point goes with it (Mapper::dropCarvedFaces looks at the faces of the
+// voxels that lost points and of their neighbours): after every frame, each face's corners are
+// points some voxel still holds.
+TEST(FreeSpace, NoFaceKeepsACarvedPoint) {
+  MapperParams params;
+  Mapper mapper(params);
+  std::size_t carved = 0;
+  for (int k = 0; k < kFrames; ++k) {
+    carved += mapper.integrate(scanAt(k, true), poseAt(k)).points_carved;
+    std::vector<std::uint8_t> held(mapper.mesh().vertexCount(), 0);
+    for (const VoxelKey& key : mapper.voxels().keys()) {
+      for (const std::uint32_t id : mapper.voxels().find(key)->vertices) held[id] = 1;
+    }
+    std::size_t stale = 0;
+    for (const Face& f : mapper.mesh().faces()) stale += held[f[0]] == 0 || held[f[1]] == 0 || held[f[2]] == 0 ? 1 : 0;
+    ASSERT_EQ(stale, 0u) << "frame " << k;
+  }
+  EXPECT_GT(carved, 1000u);
+  EXPECT_GT(mapper.mesh().faceCount(), 10000u);
+}
+
 // The mapper has the carver look at each frame alone (prepare: its range image and ground) while
 // the frame is inserted; carving then removes exactly what a carver that prepares itself removes.
 TEST(FreeSpace, ACarverPreparedAheadCarvesAsOneThatPreparesItself) {
