@@ -270,6 +270,8 @@ void FreeSpaceCarver::save(ArchiveWriter& out) const {
     out.value(sweep.t_L_W);
     sweep.image->save(out);
   }
+  out.value(static_cast<std::uint64_t>(recent_.size()));
+  for (const std::vector<VoxelKey>& keys : recent_) out.array(keys);
 }
 
 void FreeSpaceCarver::load(ArchiveReader& in) {
@@ -287,6 +289,13 @@ void FreeSpaceCarver::load(ArchiveReader& in) {
     sweep.image = newSweepImage();
     sweep.image->load(in);
   }
+  const auto recent = static_cast<std::size_t>(in.value<std::uint64_t>());
+  if (recent > static_cast<std::size_t>(std::max(params_.recent_frames, 0))) {
+    in.fail("the checkpoint keeps the voxels of " + std::to_string(recent) + " recent frames; this run keeps " +
+            std::to_string(params_.recent_frames));
+  }
+  recent_.assign(recent, {});
+  for (std::vector<VoxelKey>& keys : recent_) in.array(keys);
 }
 
 void Mapper::save(ArchiveWriter& out) const {

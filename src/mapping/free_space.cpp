@@ -35,6 +35,12 @@ constexpr float kGrazingSlope = 3.0f;
 
 // How many voxels ahead countMisses fetches.
 constexpr std::size_t kFetchAhead = 4;
+// How far the sensor may travel in FreeSpaceParams::recent_frames frames (50 m/s, 3 frames): the
+// voxels a frame gives points nearer than max_range less this stay near while they are recent.
+constexpr float kRecentTravelM = 15.0f;
+// Far voxels whose points span less than this in height are level (the road, a verge): no ray
+// from the sensor crosses them at the incidence a far test needs.
+constexpr float kUprightExtentM = 0.15f;
 
 }  // namespace
 
@@ -64,11 +70,14 @@ CarveStats FreeSpaceCarver::carve(const std::vector<Eigen::Vector3f>& points_L, 
   Flags flags;
   stats.removed_by_vehicle = flagVehicleBox(T_W_L, map, flags);
   const std::array<const Sweep*, 1> now{&current_};
-  countMisses(now, Tested::kOld, voxelsNear(sensor_W, map), map, flags, stats);
+  std::vector<std::uint32_t> old_voxels = voxelsNear(sensor_W, map);
+  const std::vector<std::uint32_t> far = recentFar(sensor_W, map);
+  old_voxels.insert(old_voxels.end(), far.begin(), far.end());
+  countMisses(now, Tested::kOld, old_voxels, map, flags, stats);
+  std::vector<std::uint32_t> created;
+  created.reserve(active.size());
+  for (const VoxelKey& key : active) created.push_back(map.indexOf(key));
   if (!earlier_.empty()) {
-    std::vector<std::uint32_t> created;
-    created.reserve(active.size());
-    for (const VoxelKey& key : active) created.push_back(map.indexOf(key));
     std::vector<const Sweep*> before;
     for (const Sweep& sweep : earlier_) before.push_back(&sweep);
     countMisses(before, Tested::kNew, created, map, flags, stats);
@@ -78,6 +87,7 @@ CarveStats FreeSpaceCarver::carve(const std::vector<Eigen::Vector3f>& points_L, 
   std::sort(stats.voxels.begin(), stats.voxels.end());
   for (const std::uint32_t index : stats.voxels) map.removePoints(index, flags[index], stats.vertices);
   stats.removed_by_rays = stats.vertices.size() - stats.removed_by_vehicle;
+  rememberRecent(sensor_W, map, active, created);
   // This frame's rays become the newest earlier sweep (recycling the oldest's storage).
   if (params_.lookback_frames > 0) {
     Sweep next;
@@ -137,23 +147,68 @@ std::size_t FreeSpaceCarver::flagVehicleBox(const Isometry3d& T_W_L, const Voxel
   return flagged;
 }
 
+namespace {
+
+// Whether the block with key `block` lies farther than `range` from `sensor_W`.
+bool blockKeyBeyond(const VoxelKey& block, const Eigen::Vector3f& sensor_W, float range, const VoxelMap& map) {
+  const float block_m = map.voxelSize() * static_cast<float>(VoxelMap::kBlockVoxels);
+  const Eigen::Vector3f lo =
+      Eigen::Vector3f(static_cast<float>(block.x), static_cast<float>(block.y), static_cast<float>(block.z)) * block_m;
+  const Eigen::AlignedBox3f box(lo, lo + Eigen::Vector3f::Constant(block_m));
+  return box.exteriorDistance(sensor_W) > range;
+}
+
+}  // namespace
+
+bool FreeSpaceCarver::blockBeyond(const VoxelKey& key, const Eigen::Vector3f& sensor_W, float range,
+                                  const VoxelMap& map) {
+  return blockKeyBeyond(coarserKey(key, VoxelMap::kBlockVoxels), sensor_W, range, map);
+}
+
 std::vector<std::uint32_t> FreeSpaceCarver::voxelsNear(const Eigen::Vector3f& sensor_W, const VoxelMap& map) const {
   const auto range = static_cast<float>(params_.max_range_m);
-  const float block_m = map.voxelSize() * static_cast<float>(VoxelMap::kBlockVoxels);
   std::vector<std::uint32_t> voxels;
   const auto stride = static_cast<std::uint32_t>(std::max(1, params_.old_voxel_stride));
   const std::uint32_t phase = map.frame() % stride;
   for (const VoxelMap::Block& block : map.blocks()) {
-    const Eigen::Vector3f lo = Eigen::Vector3f(static_cast<float>(block.key.x), static_cast<float>(block.key.y),
-                                               static_cast<float>(block.key.z)) *
-                               block_m;
-    const Eigen::AlignedBox3f box(lo, lo + Eigen::Vector3f::Constant(block_m));
-    if (box.exteriorDistance(sensor_W) > range) continue;
+    if (blockKeyBeyond(block.key, sensor_W, range, map)) continue;
     for (const std::uint32_t index : block.voxels) {
       if (index % stride == phase) voxels.push_back(index);
     }
   }
   return voxels;
+}
+
+std::vector<std::uint32_t> FreeSpaceCarver::recentFar(const Eigen::Vector3f& sensor_W, const VoxelMap& map) const {
+  const auto range = static_cast<float>(params_.max_range_m);
+  std::vector<std::uint32_t> voxels;
+  for (const std::vector<VoxelKey>& keys : recent_) {
+    for (const VoxelKey& key : keys) {
+      if (!blockBeyond(key, sensor_W, range, map)) continue;  // voxelsNear's
+      if (const std::uint32_t index = map.indexOf(key); index != VoxelMap::kNoVertex) voxels.push_back(index);
+    }
+  }
+  std::sort(voxels.begin(), voxels.end());
+  voxels.erase(std::unique(voxels.begin(), voxels.end()), voxels.end());
+  return voxels;
+}
+
+void FreeSpaceCarver::rememberRecent(const Eigen::Vector3f& sensor_W, const VoxelMap& map,
+                                     const std::vector<VoxelKey>& active, const std::vector<std::uint32_t>& indices) {
+  if (params_.recent_frames <= 0) return;
+  const float near = static_cast<float>(params_.max_range_m) - kRecentTravelM;
+  std::vector<VoxelKey> keys;
+  if (static_cast<int>(recent_.size()) >= params_.recent_frames) {
+    keys = std::move(recent_.back());
+    recent_.pop_back();
+    keys.clear();
+  }
+  for (std::size_t i = 0; i < active.size(); ++i) {
+    if (indices[i] == VoxelMap::kNoVertex || !blockBeyond(active[i], sensor_W, near, map)) continue;
+    const Voxel& v = map.voxelAt(indices[i]);
+    if (v.hi.z() - v.lo.z() >= kUprightExtentM) keys.push_back(active[i]);
+  }
+  recent_.push_front(std::move(keys));
 }
 
 void FreeSpaceCarver::countMisses(std::span<const Sweep* const> sweeps, Tested tested,
@@ -196,16 +251,24 @@ std::pair<std::size_t, std::size_t> FreeSpaceCarver::countVoxel(std::span<const 
   for (std::size_t j = 0; j < v.points.size(); ++j) {
     PointEvidence& e = v.evidence[j];
     const bool created = e.last_hit == frame && e.hits == 1;
-    if (tested == Tested::kNew ? !created : (e.hits >= params_.confirm_hits || e.last_hit == frame)) continue;
+    const bool recent = frame - e.last_hit <= static_cast<std::uint32_t>(std::max(params_.recent_frames, 0));
+    if (tested == Tested::kNew ? !created : (confirmed(e) || e.last_hit == frame)) continue;
     std::optional<Lie> lie;  // how p lies, once a sweep tests it
     for (const Sweep* sweep : sweeps) {
       const Eigen::Vector3f p_L = sweep->R_L_W * v.points[j] + sweep->t_L_W;
       const float r = p_L.norm();
-      if (!(r >= min_range) || r > max_range) continue;
-      ++count;
+      // Beyond max_range, only old points hit in one frame, one of the last recent_frames: what a
+      // car driving away leaves lies in one frame's returns; a far wall is hit frame after frame.
+      const bool far = r > max_range;
+      if (!(r >= min_range) || (far && (tested == Tested::kNew || !(recent && e.hits == 1)))) continue;
+      // Far away, where the rays lie tens of centimetres apart, only a ray that crosses the plane
+      // of p's voxel counts: the scattered far points of foliage would go by the rays beside them.
+      // Rays from the sensor meet a level plane there at grazing incidence: only upright ones.
       if (!n_W) n_W = planeOf(v);
+      if (far && !(*n_W != Eigen::Vector3f::Zero() && std::abs(n_W->z()) <= kLevelNormalZ)) continue;
+      ++count;
       if (!lie) lie = lieOf(v.points[j], *n_W);
-      if (!seenThrough(*sweep->image, p_L, sweep->R_L_W * *n_W, sweep->R_L_W.col(2), *lie)) continue;
+      if (!seenThrough(*sweep->image, p_L, sweep->R_L_W * *n_W, sweep->R_L_W.col(2), *lie, far)) continue;
       ++seen;
       if (e.misses < 255) ++e.misses;
     }
@@ -240,7 +303,8 @@ Eigen::Vector3f FreeSpaceCarver::planeOf(Voxel& v) const {
 }
 
 bool FreeSpaceCarver::seenThrough(const detail::RangeImage& image, const Eigen::Vector3f& p_L,
-                                  const Eigen::Vector3f& n_L, const Eigen::Vector3f& up_L, Lie lie) const {
+                                  const Eigen::Vector3f& n_L, const Eigen::Vector3f& up_L, Lie lie,
+                                  bool crossing_only) const {
   const float r = p_L.norm();
   const Eigen::Vector3f d = p_L / r;
   const auto lateral = static_cast<float>(params_.lateral_m + params_.lateral_per_m * r);
@@ -263,6 +327,7 @@ bool FreeSpaceCarver::seenThrough(const detail::RangeImage& image, const Eigen::
       through = t > 0.0f && q.range_m > t + margin && (q.direction * t - p_L).squaredNorm() <= lateral2;
       return;
     }
+    if (crossing_only) return;
     // No plane, or one the ray grazes: the ray passes beside p. It counts when it comes as near as
     // `lateral` and ends well behind, unless p lies on level ground, where a ray skimming the road
     // to a car behind says nothing about the road.

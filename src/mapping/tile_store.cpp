@@ -19,7 +19,8 @@ namespace fs = std::filesystem;
 namespace {
 
 constexpr const char* kMagic = "ARTEMIS tile";
-constexpr std::uint32_t kTileVersion = 1;
+// 2: a point's evidence keeps the span of its hits
+constexpr std::uint32_t kTileVersion = 2;
 
 std::int32_t floorDiv(std::int32_t a, std::int32_t b) {
   return a >= 0 ? a / b : -((-a + b - 1) / b);

@@ -173,7 +173,7 @@ std::vector<VoxelKey> VoxelMap::insert(const std::vector<Eigen::Vector3f>& point
     v.vertices.push_back(mesh.addVertex(p, q.key, (sensor_W - p).normalized(), last_index));
     v.points.push_back(p);
     v.sub_cells.push_back(static_cast<std::uint16_t>(q.sub_cell));
-    v.evidence.push_back({frame_, 1, 0});
+    v.evidence.push_back({frame_, 1, 0, 0});
     v.lo = v.lo.cwiseMin(p);
     v.hi = v.hi.cwiseMax(p);
     if (v.active_frame != frame_) {
@@ -212,6 +212,7 @@ void VoxelMap::countHit(Voxel& v, std::uint16_t sub_cell) const {
   --j;
   PointEvidence& e = v.evidence[j];
   if (e.last_hit == frame_) return;
+  e.span = static_cast<std::uint16_t>(std::min<std::uint32_t>(0xFFFFu, e.span + (frame_ - e.last_hit)));
   e.last_hit = frame_;
   if (e.hits < 255) ++e.hits;
 }

@@ -42,10 +42,18 @@
 // 84.7 %.
 
 // Thin structures survive in two ways: their points are hit again in most frames that see them,
-// and a point hit in confirm_hits frames is taken as static and never tested again (which also
-// bounds the work: the points tested are the young ones within max_range of the sensor). A
-// pole's point seen edge-on by a ray that slips past it gets a miss, but needs as many misses as
-// misses_per_hit times its hits before it goes.
+// and a point hit in confirm_hits frames spread over at least confirm_span_frames frames is taken
+// as static and never tested again (which also bounds the work: the points tested are the young
+// ones within max_range of the sensor). A pole's point seen edge-on by a ray that slips past it
+// gets a miss, but needs as many misses as misses_per_hit times its hits before it goes.
+//
+// The span is what keeps the side of a passing car out. A car's side is as long as the car, and
+// lies where it lay a frame before for as many frames as the car takes to cover its own length:
+// an oncoming car at 11 m/s (1.1 m a frame) puts returns in the same sub-cells of its side for four
+// frames in a row. Hit in three frames, its points were once taken as static at once, and the later
+// rays that cross where the side was found nothing left to test. A static point within max_range
+// is seen for many more frames than a car takes to pass it (a second at 10 m/s sees it from 10 m
+// farther along).
 //
 // The vehicle's own box at the current pose (see SweptVolume) is free space too: points in it are
 // removed outright, which clears what a car driving ahead left where this vehicle now drives.
@@ -54,6 +62,20 @@
 // in old_voxel_stride of them a frame), their young points, and one look at the scan's range image
 // per point (15 bins where a ray might pass through); plus the frame's new points against the
 // earlier scans.
+//
+// Beyond max_range a few recent points are tested too. A car that drives away from the sensor (an
+// oncoming car once it has passed) is seen from behind at 30-70 m, its back a metre or two farther
+// each frame; the next frames' rays to it pass through where its back was, and only they do: by
+// the time the map near the sensor would reach those places, the sensor has gone the other way.
+// Tested there: the points hit in one frame, one of the last recent_frames, in the voxels those
+// frames gave points that stand upright (points spanning 15 cm in height; most far voxels are the
+// road), against the ray that crosses their voxel's plane (upright; rays meet a level plane far
+// away at grazing incidence), not the rays passing beside them (tens of centimetres apart there).
+//
+// On the simulated street with its traffic (`--traffic street`, oncoming cars at 11 m/s, 150
+// frames) the two rules took the rays blocked (`artemis eval rays`) from 9.9 to 5.1 % (8.5 % with the
+// span alone) and F1 against the static surface at 0.1 m from 0.9695 to 0.9758; on KITTI drive
+// 0013 (frames 0-49, where nothing comes the other way) F1 0.8990 -> 0.8988.
 
 #include <cstdint>
 #include <deque>
@@ -91,12 +113,15 @@ struct FreeSpaceParams {
   double margin_per_m = 0.01;
   double min_incidence_cos = 0.25;  // |cos| of the ray's angle to the plane's normal, at least
   double beside_margin_m = 0.5;     // a ray passing beside a point ends this much behind it (+ margin_per_m * range)
-  int confirm_hits = 3;             // a point hit in this many frames is static
+  int confirm_hits = 3;             // a point hit in this many frames ...
+  int confirm_span_frames = 10;     // ... spread over at least this many is static
   int min_misses = 2;               // a point goes once misses >= max(min_misses, misses_per_hit * hits)
   int misses_per_hit = 2;
   // The points a frame creates are also tested against the rays of this many earlier frames: a car
   // following this one is only ever seen through before it got somewhere, never after.
   int lookback_frames = 3;
+  // Points hit in the last recent_frames frames are tested at any range (see above).
+  int recent_frames = 3;
   // Old points are tested in one voxel of every old_voxel_stride each frame, in turn: a trail
   // takes a few frames longer to go, for a fraction of the work.
   int old_voxel_stride = 1;
@@ -156,6 +181,16 @@ class FreeSpaceCarver {
   std::size_t flagVehicleBox(const Isometry3d& T_W_L, const VoxelMap& map, Flags& flags) const;
   // The voxels in blocks within max_range of `sensor_W`.
   [[nodiscard]] std::vector<std::uint32_t> voxelsNear(const Eigen::Vector3f& sensor_W, const VoxelMap& map) const;
+  // Whether the block of voxels holding `key` lies farther than `range` from `sensor_W`.
+  [[nodiscard]] static bool blockBeyond(const VoxelKey& key, const Eigen::Vector3f& sensor_W, float range,
+                                        const VoxelMap& map);
+  // The voxels remembered for the last recent_frames frames, beyond voxelsNear's blocks (sorted).
+  [[nodiscard]] std::vector<std::uint32_t> recentFar(const Eigen::Vector3f& sensor_W, const VoxelMap& map) const;
+  // Remembers the voxels this frame gave points (`active`, at `indices`) that may lie beyond
+  // voxelsNear's blocks later and hold something upright (their points span kUprightExtentM in
+  // height: not the far road, which is most of them).
+  void rememberRecent(const Eigen::Vector3f& sensor_W, const VoxelMap& map, const std::vector<VoxelKey>& active,
+                      const std::vector<std::uint32_t>& indices);
   // Counts the misses of the `tested` points of `voxels` against `sweeps` (one miss per sweep that
   // saw through) and flags the points whose misses now outweigh their hits.
   void countMisses(std::span<const Sweep* const> sweeps, Tested tested, const std::vector<std::uint32_t>& voxels,
@@ -168,13 +203,19 @@ class FreeSpaceCarver {
   // and near the frame's lowest returns (ground), or level and higher (a roof, a bonnet).
   enum class Lie { kScattered, kUpright, kGround, kRoof };
   [[nodiscard]] Lie lieOf(const Eigen::Vector3f& p_W, const Eigen::Vector3f& n_W) const;
+  // Whether a point is static for good: hit in confirm_hits frames over confirm_span_frames.
+  [[nodiscard]] bool confirmed(const PointEvidence& e) const {
+    return e.hits >= params_.confirm_hits && e.span >= params_.confirm_span_frames;
+  }
   // Whether a ray of `image` passes through point p_L whose voxel's plane has normal n_L (sensor
   // frame; zero: no plane).
   // The plane normal of voxel v (world; zero: none): the mesher's, or fitted here alike.
   [[nodiscard]] Eigen::Vector3f planeOf(Voxel& v) const;
-  // `up_L`: the world's up; `lie`: how p lies.
+  // `up_L`: the world's up; `lie`: how p lies; `crossing_only`: only a ray that crosses the plane
+  // counts, none that passes beside p.
   [[nodiscard]] bool seenThrough(const detail::RangeImage& image, const Eigen::Vector3f& p_L,
-                                 const Eigen::Vector3f& n_L, const Eigen::Vector3f& up_L, Lie lie) const;
+                                 const Eigen::Vector3f& n_L, const Eigen::Vector3f& up_L, Lie lie,
+                                 bool crossing_only) const;
 
   FreeSpaceParams params_;
   MesherParams mesher_;
@@ -183,6 +224,9 @@ class FreeSpaceCarver {
   FrameGround ground_;         // the current frame's: which level points are ground
   bool prepared_ = false;      // prepare() ran for the frame carve() is next called with
   std::deque<Sweep> earlier_;  // the last lookback_frames sweeps, newest first
+  // Per frame of the last recent_frames, newest first: the voxels it gave points near or beyond
+  // max_range.
+  std::deque<std::vector<VoxelKey>> recent_;
 };
 
 }  // namespace artemis::mapping

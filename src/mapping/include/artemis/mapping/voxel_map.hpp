@@ -33,11 +33,13 @@ struct VoxelMapParams {
 };
 
 // The frames whose returns fell in a point's sub-cell (saturating), the frames whose rays passed
-// through it, and the last frame that hit it.
+// through it, the last frame that hit it, and how many frames lie between its first hit and its last
+// (saturating; in what would be the struct's padding).
 struct PointEvidence {
   std::uint32_t last_hit = 0;
   std::uint8_t hits = 0;
   std::uint8_t misses = 0;
+  std::uint16_t span = 0;
 };
 
 struct Voxel {
