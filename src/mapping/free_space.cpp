@@ -149,8 +149,8 @@ std::size_t FreeSpaceCarver::flagVehicleBox(const Isometry3d& T_W_L, const Voxel
 
 namespace {
 
-// Whether the block with key `block` lies farther than `range` from `sensor_W`.
-bool blockKeyBeyond(const VoxelKey& block, const Eigen::Vector3f& sensor_W, float range, const VoxelMap& map) {
+// Whether the block with key `block` (VoxelMap::Block::key) lies farther than `range` from `sensor_W`.
+bool blockBeyond(const VoxelKey& block, const Eigen::Vector3f& sensor_W, float range, const VoxelMap& map) {
   const float block_m = map.voxelSize() * static_cast<float>(VoxelMap::kBlockVoxels);
   const Eigen::Vector3f lo =
       Eigen::Vector3f(static_cast<float>(block.x), static_cast<float>(block.y), static_cast<float>(block.z)) * block_m;
@@ -158,12 +158,12 @@ bool blockKeyBeyond(const VoxelKey& block, const Eigen::Vector3f& sensor_W, floa
   return box.exteriorDistance(sensor_W) > range;
 }
 
-}  // namespace
-
-bool FreeSpaceCarver::blockBeyond(const VoxelKey& key, const Eigen::Vector3f& sensor_W, float range,
-                                  const VoxelMap& map) {
-  return blockKeyBeyond(coarserKey(key, VoxelMap::kBlockVoxels), sensor_W, range, map);
+// The key of the block holding voxel `key`.
+VoxelKey blockOf(const VoxelKey& key) {
+  return coarserKey(key, VoxelMap::kBlockVoxels);
 }
+
+}  // namespace
 
 std::vector<std::uint32_t> FreeSpaceCarver::voxelsNear(const Eigen::Vector3f& sensor_W, const VoxelMap& map) const {
   const auto range = static_cast<float>(params_.max_range_m);
@@ -171,7 +171,7 @@ std::vector<std::uint32_t> FreeSpaceCarver::voxelsNear(const Eigen::Vector3f& se
   const auto stride = static_cast<std::uint32_t>(std::max(1, params_.old_voxel_stride));
   const std::uint32_t phase = map.frame() % stride;
   for (const VoxelMap::Block& block : map.blocks()) {
-    if (blockKeyBeyond(block.key, sensor_W, range, map)) continue;
+    if (blockBeyond(block.key, sensor_W, range, map)) continue;
     for (const std::uint32_t index : block.voxels) {
       if (index % stride == phase) voxels.push_back(index);
     }
@@ -184,7 +184,7 @@ std::vector<std::uint32_t> FreeSpaceCarver::recentFar(const Eigen::Vector3f& sen
   std::vector<std::uint32_t> voxels;
   for (const std::vector<VoxelKey>& keys : recent_) {
     for (const VoxelKey& key : keys) {
-      if (!blockBeyond(key, sensor_W, range, map)) continue;  // voxelsNear's
+      if (!blockBeyond(blockOf(key), sensor_W, range, map)) continue;  // voxelsNear's
       if (const std::uint32_t index = map.indexOf(key); index != VoxelMap::kNoVertex) voxels.push_back(index);
     }
   }
@@ -204,7 +204,7 @@ void FreeSpaceCarver::rememberRecent(const Eigen::Vector3f& sensor_W, const Voxe
     keys.clear();
   }
   for (std::size_t i = 0; i < active.size(); ++i) {
-    if (indices[i] == VoxelMap::kNoVertex || !blockBeyond(active[i], sensor_W, near, map)) continue;
+    if (indices[i] == VoxelMap::kNoVertex || !blockBeyond(blockOf(active[i]), sensor_W, near, map)) continue;
     const Voxel& v = map.voxelAt(indices[i]);
     if (v.hi.z() - v.lo.z() >= kUprightExtentM) keys.push_back(active[i]);
   }

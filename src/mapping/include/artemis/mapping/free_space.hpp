@@ -120,7 +120,8 @@ struct FreeSpaceParams {
   // The points a frame creates are also tested against the rays of this many earlier frames: a car
   // following this one is only ever seen through before it got somewhere, never after.
   int lookback_frames = 3;
-  // Points hit in the last recent_frames frames are tested at any range (see above).
+  // Beyond max_range, the old points hit in one frame, one of the last recent_frames, are tested
+  // too, in the upright voxels those frames gave points (see above).
   int recent_frames = 3;
   // Old points are tested in one voxel of every old_voxel_stride each frame, in turn: a trail
   // takes a few frames longer to go, for a fraction of the work.
@@ -181,9 +182,6 @@ class FreeSpaceCarver {
   std::size_t flagVehicleBox(const Isometry3d& T_W_L, const VoxelMap& map, Flags& flags) const;
   // The voxels in blocks within max_range of `sensor_W`.
   [[nodiscard]] std::vector<std::uint32_t> voxelsNear(const Eigen::Vector3f& sensor_W, const VoxelMap& map) const;
-  // Whether the block of voxels holding `key` lies farther than `range` from `sensor_W`.
-  [[nodiscard]] static bool blockBeyond(const VoxelKey& key, const Eigen::Vector3f& sensor_W, float range,
-                                        const VoxelMap& map);
   // The voxels remembered for the last recent_frames frames, beyond voxelsNear's blocks (sorted).
   [[nodiscard]] std::vector<std::uint32_t> recentFar(const Eigen::Vector3f& sensor_W, const VoxelMap& map) const;
   // Remembers the voxels this frame gave points (`active`, at `indices`) that may lie beyond
@@ -207,12 +205,11 @@ class FreeSpaceCarver {
   [[nodiscard]] bool confirmed(const PointEvidence& e) const {
     return e.hits >= params_.confirm_hits && e.span >= params_.confirm_span_frames;
   }
-  // Whether a ray of `image` passes through point p_L whose voxel's plane has normal n_L (sensor
-  // frame; zero: no plane).
   // The plane normal of voxel v (world; zero: none): the mesher's, or fitted here alike.
   [[nodiscard]] Eigen::Vector3f planeOf(Voxel& v) const;
-  // `up_L`: the world's up; `lie`: how p lies; `crossing_only`: only a ray that crosses the plane
-  // counts, none that passes beside p.
+  // Whether a ray of `image` passes through point p_L whose voxel's plane has normal n_L (sensor
+  // frame; zero: no plane). `up_L`: the world's up; `lie`: how p lies; `crossing_only`: only a ray that crosses the
+  // plane counts, none that passes beside p.
   [[nodiscard]] bool seenThrough(const detail::RangeImage& image, const Eigen::Vector3f& p_L,
                                  const Eigen::Vector3f& n_L, const Eigen::Vector3f& up_L, Lie lie,
                                  bool crossing_only) const;
@@ -224,8 +221,8 @@ class FreeSpaceCarver {
   FrameGround ground_;         // the current frame's: which level points are ground
   bool prepared_ = false;      // prepare() ran for the frame carve() is next called with
   std::deque<Sweep> earlier_;  // the last lookback_frames sweeps, newest first
-  // Per frame of the last recent_frames, newest first: the voxels it gave points near or beyond
-  // max_range.
+  // Per frame of the last recent_frames, newest first: the upright voxels it gave points that lay
+  // beyond max_range less the sensor's travel (rememberRecent).
   std::deque<std::vector<VoxelKey>> recent_;
 };
 
