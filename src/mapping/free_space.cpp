@@ -220,7 +220,12 @@ void FreeSpaceCarver::countMisses(std::span<const Sweep* const> sweeps, Tested t
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, voxels.size(), 64), [&](const auto& r) {
     for (std::size_t i = r.begin(); i < r.end(); ++i) {
       // The voxels lie scattered in memory: fetch a later one's while this one is tested.
-      if (i + kFetchAhead < r.end()) prefetch(map.voxelAt(voxels[i + kFetchAhead]));
+      if (i + 2 * kFetchAhead < r.end()) prefetch(map.voxelAt(voxels[i + 2 * kFetchAhead]));
+      if (i + kFetchAhead < r.end()) {
+        const Voxel& ahead = map.voxelAt(voxels[i + kFetchAhead]);
+        __builtin_prefetch(ahead.points.data());
+        __builtin_prefetch(ahead.evidence.data());
+      }
       counts[i] = countVoxel(sweeps, tested, frame, map.voxelAt(voxels[i]), removals[i]);
     }
   });
@@ -313,6 +318,13 @@ bool FreeSpaceCarver::seenThrough(const detail::RangeImage& image, const Eigen::
   const auto beside = static_cast<float>(params_.beside_margin_m + params_.margin_per_m * r);
   const auto min_cos = static_cast<float>(params_.min_incidence_cos);
   const bool plane = n_L != Eigen::Vector3f::Zero();
+  // On level ground (and where asked) only a ray that crosses p's plane at min_cos or steeper
+  // counts. The rays looked at below lie within nearAngle() of the direction to p, so their
+  // incidence differs from its by less than that: where p's own is grazing, none can count. Most
+  // points tested on a street are road at grazing incidence.
+  if ((crossing_only || lie == Lie::kGround) && !(plane && std::abs(n_L.dot(d)) + image.nearAngle() >= min_cos)) {
+    return false;
+  }
   // Most points lie where this scan's rays end, or behind them: one look says no ray goes beyond.
   const detail::RangeImage::Cell cell = image.cellOf(d);
   if (image.farthestNear(cell) <= r + std::min(margin, beside) - lateral) return false;

@@ -60,6 +60,12 @@ class RangeImage {
   };
   [[nodiscard]] Cell cellOf(const Eigen::Vector3f& d_L) const { return {rowOf(d_L), colOf(d_L)}; }
 
+  // An upper bound on the angle (rad) between unit direction d_L and any return that
+  // forEachNear(cellOf(d_L)) visits: their elevations differ by less than 3 elevation steps and
+  // their azimuths by less than 2 azimuth steps (5 x 3 bins around d_L's), so the angle is less
+  // than the sum of the two, plus fastAtan2's error.
+  [[nodiscard]] float nearAngle() const { return 3.0f * elevation_step_ + 2.0f * azimuth_step_ + 1e-4f; }
+
   // The farthest range among the returns forEachNear(cell) visits (0 when none): one look that
   // settles most questions of whether any ray there goes beyond some range.
   [[nodiscard]] float farthestNear(const Cell& cell) const {
