@@ -120,7 +120,8 @@ std::string timingJson(const RunReport& report) {
   j["finish_ms"] = report.finish_ms;
   j["peak_rss_mb"] = report.peak_rss_mb;
   j["page_faults"] = report.page_faults;
-  j["allocator"] = allocatorTuned() ? "glibc, tuned" : "system";  // see core/allocator.hpp
+  // See core/allocator.hpp.
+  j["allocator"] = !allocatorTuned() ? "system" : allocatorHugePages() ? "glibc, tuned, huge pages" : "glibc, tuned";
   j["frames_failed"] = report.frames_failed;
   j["points_in_vehicle_path"] = report.points_in_vehicle_path;
   j["points_carved"] = report.points_carved;

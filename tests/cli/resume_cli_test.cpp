@@ -209,7 +209,9 @@ TEST_F(CliResume, StoppedWithCtrlCItRefusesForeignCheckpointsAndResumes) {
   ASSERT_EQ(resumed.exit_code, 0) << resumed.err;
   expectSameAsWhole(out);
   EXPECT_EQ(test::readJson(out / "timing.json")["allocator"], "system");
-  EXPECT_EQ(test::readJson(whole() / "timing.json")["allocator"], kTunedAllocator);
+  // (With huge pages or not, by the machine: core/allocator.hpp.)
+  const std::string tuned = test::readJson(whole() / "timing.json")["allocator"];
+  EXPECT_EQ(tuned.rfind(kTunedAllocator, 0), 0u) << tuned;
 }
 
 }  // namespace
