@@ -45,6 +45,11 @@ void addMapperFlags(CLI::App& cmd, RunFlags& f) {
                  "Free space: test map points up to this far from the sensor against each scan's rays (m)")
       ->capture_default_str()
       ->check(within(1.0, 500.0));
+  cmd.add_option("--free-space-lookback", m.free_space.lookback_frames,
+                 "Free space: test the points each frame adds against the rays of this many frames before (more: "
+                 "less of what oncoming traffic leaves behind, for more time and memory a frame)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 30));
   cmd.add_option("--free-space-stride", m.free_space.old_voxel_stride,
                  "Free space: test the map's older points in one voxel of every N each frame, in turn (fewer tests a "
                  "frame; a trail takes a few frames longer to go)")

@@ -53,6 +53,7 @@ TEST(Hardening, EveryMapperSettingIsCheckedAtAndBeyondBothEnds) {
       {"--rim", "0", "2", "-0.01", "2.1"},
       {"--threads", "0", "1024", "-1", "1025"},
       {"--free-space-range", "1", "500", "0.5", "501"},
+      {"--free-space-lookback", "0", "30", "-1", "31"},
       {"--max-vertex-offset", "0", "2", "-1", "3"},
       {"--registration-voxel", "0.05", "10", "0", "11"},
       {"--sigma-photo", "0.0001", "100", "0", "101"},
