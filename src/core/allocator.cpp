@@ -91,6 +91,8 @@ void useTunedAllocator(char** argv) {
   const char* choice = std::getenv("ARTEMIS_ALLOCATOR");  // NOLINT(concurrency-mt-unsafe): before any thread
   if (choice != nullptr && std::string_view(choice) == "system") return;
   const char* before = std::getenv("GLIBC_TUNABLES");  // NOLINT(concurrency-mt-unsafe)
+  // Set already (by the user, or this is the re-execution): no need to time page faults.
+  if (!tunedGlibcTunables(before, false)) return;
   const auto tunables = tunedGlibcTunables(before, pageFaultMicros() >= kSlowPageFaultUs);
   if (!tunables) return;
   const std::optional<std::string> saved = before != nullptr ? std::optional<std::string>(before) : std::nullopt;
