@@ -219,7 +219,9 @@ void FreeSpaceCarver::countMisses(std::span<const Sweep* const> sweeps, Tested t
   const std::uint32_t frame = map.frame();
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, voxels.size(), 64), [&](const auto& r) {
     for (std::size_t i = r.begin(); i < r.end(); ++i) {
-      // The voxels lie scattered in memory: fetch a later one's while this one is tested.
+      // The voxels lie scattered in memory: fetch a later one's while this one is tested, and the
+      // points and evidence of the one between (their loads were the loop's hottest; 0.7 ms a KITTI
+      // frame in three alternating pairs).
       if (i + 2 * kFetchAhead < r.end()) prefetch(map.voxelAt(voxels[i + 2 * kFetchAhead]));
       if (i + kFetchAhead < r.end()) {
         const Voxel& ahead = map.voxelAt(voxels[i + kFetchAhead]);

@@ -208,8 +208,8 @@ class FreeSpaceCarver {
   // The plane normal of voxel v (world; zero: none): the mesher's, or fitted here alike.
   [[nodiscard]] Eigen::Vector3f planeOf(Voxel& v) const;
   // Whether a ray of `image` passes through point p_L whose voxel's plane has normal n_L (sensor
-  // frame; zero: no plane). `up_L`: the world's up; `lie`: how p lies; `crossing_only`: only a ray that crosses the
-  // plane counts, none that passes beside p.
+  // frame; zero: no plane). `up_L`: the world's up; `lie`: how p lies; `crossing_only`: only a ray
+  // that crosses the plane counts, none that passes beside p.
   [[nodiscard]] bool seenThrough(const detail::RangeImage& image, const Eigen::Vector3f& p_L,
                                  const Eigen::Vector3f& n_L, const Eigen::Vector3f& up_L, Lie lie,
                                  bool crossing_only) const;
