@@ -48,5 +48,45 @@ TEST(RangeImage, ReturnsNearADirectionLieWithinNearAngle) {
   EXPECT_GT(widest, 0.7f * image.nearAngle());  // a bound, not a loose one
 }
 
+TEST(RangeImage, FarthestNearIsTheFarthestReturnVisited) {
+  // Sparse returns (so that many bins hold none and the maxima differ from bin to bin), looked up
+  // everywhere, the first and last azimuth bins (where the image wraps around) and the rows at
+  // and beyond its edges included.
+  std::mt19937 rng(11);
+  std::uniform_real_distribution<float> azimuth(-std::numbers::pi_v<float>, std::numbers::pi_v<float>);
+  std::uniform_real_distribution<float> elevation(-25.0f * kDeg, 3.0f * kDeg);
+  std::uniform_real_distribution<float> range(3.0f, 60.0f);
+  std::vector<Eigen::Vector3f> points;
+  for (int i = 0; i < 20000; ++i) points.push_back(direction(azimuth(rng), elevation(rng)) * range(rng));
+  RangeImage image(0.2f, 0.25f);
+  image.build(points, 2.5f, 100.0f, 3.0f);
+  // Inside the image the lookup is exact; beyond its first and last rows it answers for the edge
+  // row, an upper bound (all the carver needs).
+  const int first_row = image.cellOf(direction(0.0f, -24.5f * kDeg)).row;
+  const int last_row = image.cellOf(direction(0.0f, 2.5f * kDeg)).row;
+  std::size_t checked = 0;
+  std::size_t empty = 0;
+  const auto check = [&](const RangeImage::Cell& cell) {
+    float farthest = 0.0f;
+    image.forEachNear(cell, [&](const RangeImage::Return& q) { farthest = std::max(farthest, q.range_m); });
+    if (cell.row < first_row || cell.row > last_row) {
+      ASSERT_GE(image.farthestNear(cell), farthest) << cell.row << ", " << cell.col;
+      return;
+    }
+    ASSERT_EQ(image.farthestNear(cell), farthest) << cell.row << ", " << cell.col;
+    ++checked;
+    empty += farthest == 0.0f ? 1 : 0;
+  };
+  std::uniform_real_distribution<float> looked_up(-27.0f * kDeg, 5.0f * kDeg);
+  for (int i = 0; i < 20000; ++i) check(image.cellOf(direction(azimuth(rng), looked_up(rng))));
+  for (int row = first_row - 4; row <= last_row + 4; ++row) {
+    check({row, 0});
+    check({row, 1799});  // 360 / 0.2 columns
+  }
+  EXPECT_GT(checked, 15000u);
+  EXPECT_GT(empty, 100u);  // some lookups find no return at all
+  EXPECT_LT(empty, checked / 2);
+}
+
 }  // namespace
 }  // namespace artemis::mapping::detail
