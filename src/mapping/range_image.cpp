@@ -145,7 +145,7 @@ float RangeImage::leastSlope(std::size_t k, int row, int col, int dr, int dc, in
       const int spread = dr != 0 ? 1 : 0;
       bool found = false;
       for (int side = -spread; side <= spread; ++side) {
-        const int c = (col + sign * step * dc + side + 2 * cols_) % cols_;
+        const int c = wrapped(col + sign * step * dc + side);
         const auto bin = static_cast<std::size_t>(r) * static_cast<std::size_t>(cols_) + static_cast<std::size_t>(c);
         for (std::uint32_t j = offsets_[bin]; j < offsets_[bin + 1]; ++j) {
           const Return& b = returns_[j];
@@ -170,7 +170,7 @@ std::int64_t RangeImage::nearestAlong(std::size_t k, int row, int col, int dr, i
     std::int64_t best = -1;
     float best_cos = -2.0f;
     for (int side = -spread; side <= spread; ++side) {
-      const int c = (col + sign * step * dc + side + 2 * cols_) % cols_;
+      const int c = wrapped(col + sign * step * dc + side);
       const auto bin = static_cast<std::size_t>(r) * static_cast<std::size_t>(cols_) + static_cast<std::size_t>(c);
       for (std::uint32_t j = offsets_[bin]; j < offsets_[bin + 1]; ++j) {
         const float cos = a.direction.dot(returns_[j].direction);
@@ -200,7 +200,7 @@ std::uint8_t RangeImage::classify(std::size_t k) const {
   // Beams lie up to ~0.5 deg apart (two or three elevation bins); a beam's successive returns
   // lie in adjacent azimuth bins.
   const int row = static_cast<int>(returns_[k].bin) / cols_;
-  const int col = static_cast<int>(returns_[k].bin) % cols_;
+  const int col = static_cast<int>(returns_[k].bin) - row * cols_;
   const float along = leastSlope(k, row, col, 0, 1, 2);
   const float across = leastSlope(k, row, col, 1, 0, 3);
   const bool grazing = !(along <= grazing_slope_) || !(across <= grazing_slope_);

@@ -5,6 +5,7 @@
 // HDL-64E: 0.18 deg) and half its widest beam spacing (0.33-0.5 deg).
 
 #include <algorithm>
+#include <array>
 #include <atomic>
 #include <cstdint>
 #include <memory>
@@ -81,10 +82,10 @@ class RangeImage {
   template <class Visit>
   void forEachNear(const Cell& cell, Visit&& visit) const {
     if (returns_.empty()) return;
+    const std::array<int, 3> columns{wrapped(cell.col - 1), wrapped(cell.col), wrapped(cell.col + 1)};
     for (int r = cell.row - 2; r <= cell.row + 2; ++r) {
       if (r < 0 || r >= rows_) continue;
-      for (int dc = -1; dc <= 1; ++dc) {
-        const int c = (cell.col + dc + cols_) % cols_;
+      for (const int c : columns) {
         const auto bin = static_cast<std::size_t>(r) * static_cast<std::size_t>(cols_) + static_cast<std::size_t>(c);
         for (std::uint32_t k = offsets_[bin]; k < offsets_[bin + 1]; ++k) visit(returns_[k]);
       }
@@ -92,6 +93,13 @@ class RangeImage {
   }
 
  private:
+  // Column c taken around the full turn into [0, cols_) (c % cols_ for c >= 0, without the
+  // division: the lookups do this a few hundred thousand times a frame).
+  [[nodiscard]] int wrapped(int c) const {
+    while (c >= cols_) c -= cols_;
+    while (c < 0) c += cols_;
+    return c;
+  }
   [[nodiscard]] int colOf(const Eigen::Vector3f& d) const;
   [[nodiscard]] int rowOf(const Eigen::Vector3f& d) const;  // may be outside [0, rows_)
   // The least range slope from return k (in bin row, col) to a return in the bins (row + dr, col + dc)
