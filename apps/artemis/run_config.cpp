@@ -70,6 +70,7 @@ nlohmann::ordered_json configJson(const RunFlags& f, const std::string& dataset_
        {{"rim_m", m.mesher.rim_m},
         {"max_edge_m", m.mesher.max_edge_m},
         {"max_edge_nonplanar_m", m.mesher.max_edge_nonplanar_m},
+        {"max_edge_upright_m", m.mesher.max_edge_upright_m},
         {"min_angle_deg", m.mesher.min_angle_deg},
         {"max_plane_angle_deg", m.mesher.max_plane_angle_deg},
         {"nonplanar_ratio", m.mesher.nonplanar_ratio},

@@ -25,6 +25,11 @@ void addMapperFlags(CLI::App& cmd, RunFlags& f) {
   cmd.add_option("--max-edge", m.mesher.max_edge_m, "Longest face edge on planar voxels (m)")
       ->capture_default_str()
       ->check(within(0.01, 10.0));
+  cmd.add_option("--max-edge-upright", m.mesher.max_edge_upright_m,
+                 "Longest face edge on planar voxels that stand upright (walls, hedges, car sides), where the "
+                 "beams lie closer than on the ground: a longer edge spans a gap (m; --max-edge if that is shorter)")
+      ->capture_default_str()
+      ->check(within(0.01, 10.0));
   cmd.add_option("--remesh-growth", m.remesh_growth,
                  "Re-mesh a voxel once its points grew by this share since it was last meshed")
       ->capture_default_str()

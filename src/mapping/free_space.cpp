@@ -19,8 +19,6 @@ namespace {
 // Bins a little wider than the HDL-64E's steps (0.18 deg azimuth; 0.33-0.5 deg between beams).
 constexpr float kAzimuthStepDeg = 0.2f;
 constexpr float kElevationStepDeg = 0.25f;
-// A plane whose normal is this close to the world's vertical is level ground (~45 deg).
-constexpr float kLevelNormalZ = 0.7f;
 // Level points at most this far above the lowest returns nearby are ground (a kerb, a verge, a
 // pavement); a car's bonnet (~0.8 m) and roof (~1.4 m) are not.
 constexpr float kGroundBandM = 0.5f;

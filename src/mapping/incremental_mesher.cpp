@@ -77,7 +77,10 @@ VoxelMeshResult IncrementalMesher::meshVoxel(const VoxelMap& map, const Semantic
   const Vector3d& centroid = plane.centroid;
   const Vector3d normal = plane.normal.dot(view) < 0.0 ? Vector3d(-plane.normal) : plane.normal;
   const bool planar = plane.planar;
-  const double max_edge = planar ? params_.max_edge_m : params_.max_edge_nonplanar_m;
+  const bool upright = !(std::abs(normal.z()) > kLevelNormalZ);
+  const double max_edge = !planar   ? params_.max_edge_nonplanar_m
+                          : upright ? std::min(params_.max_edge_m, params_.max_edge_upright_m)
+                                    : params_.max_edge_m;
   const Vector3d& u = plane.major;
   const Vector3d w = normal.cross(u);
 

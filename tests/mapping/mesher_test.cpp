@@ -4,6 +4,7 @@
 
 #include <cmath>
 #include <numbers>
+#include <utility>
 
 #include "artemis/mapping/mapper.hpp"
 #include "mesh_checks.hpp"
@@ -116,6 +117,47 @@ TEST(Mesher, CornerOfTwoWallsAndAFloor) {
     ASSERT_LT(centre.minCoeff(), 0.1f) << "a face off the planes away from a crease";
   }
   EXPECT_LT(static_cast<double>(off_plane), 0.05 * static_cast<double>(faces.size()));
+}
+
+TEST(Mesher, UprightSurfacesKeepShorterEdgesThanTheGround) {
+  // A floor and a wall sampled alike: rows 0.3 m apart, 0.35 m between the points of a row, so that
+  // every triangle has an edge of ~0.46 m. The ground keeps them (--max-edge 0.6); the wall keeps
+  // none at the upright limit (0.4) and all of them when the limit is raised to the ground's. (In
+  // 1 m voxels, which hold enough such points for a plane.)
+  PointCloud cloud;
+  for (int i = 0; i < 12; ++i) {
+    for (int j = 0; j < 14; ++j) {
+      const float a = 0.35f * (static_cast<float>(i) + 0.5f) + 0.02f * std::sin(static_cast<float>(i * 7 + j));
+      const float b = 0.3f * (static_cast<float>(j) + 0.5f) + 0.02f * std::cos(static_cast<float>(j * 5 + i));
+      cloud.points.emplace_back(a, b, 0.0f);          // floor
+      cloud.points.emplace_back(a, -0.5f, b + 0.5f);  // wall y = -0.5, from 0.5 m up
+    }
+  }
+  const auto areas = [&](double upright_limit) {
+    MapperParams params;
+    params.constraint.enabled = false;  // the mesher's own faces
+    params.holes.enabled = false;
+    params.voxels.voxel_size_m = 1.0;
+    params.mesher.max_edge_upright_m = upright_limit;
+    Mapper mapper(params);
+    const Eigen::Vector3d sensor(2.0, 2.0, 1.5);
+    mapper.integrate(inSensorFrame(cloud, sensor), sensorAt(sensor));
+    mapper.finish();
+    double floor = 0.0;
+    double wall = 0.0;
+    const auto& p = mapper.mesh().positions();
+    for (const Face& f : mapper.mesh().faces()) {
+      const Vector3f n = (p[f[1]] - p[f[0]]).cross(p[f[2]] - p[f[0]]);
+      (std::abs(n.z()) > kLevelNormalZ * n.norm() ? floor : wall) += 0.5 * n.norm();
+    }
+    return std::pair{floor, wall};
+  };
+  const auto [floor, wall] = areas(MesherParams{}.max_edge_upright_m);
+  const auto [floor_raised, wall_raised] = areas(0.6);
+  EXPECT_GT(floor, 0.7 * 3.85 * 3.9);  // most of the sampled square
+  EXPECT_LT(wall, 0.02 * floor);
+  EXPECT_NEAR(floor_raised, floor, 1e-9);
+  EXPECT_GT(wall_raised, 0.7 * floor);
 }
 
 TEST(Mesher, SphereSeenFromInsideHasInwardNormalsAndStaysOnIt) {

@@ -7,8 +7,9 @@
 // seams at voxel borders. Faces are wound so that their normal points towards the sensor.
 //
 // Voxels that are not planar (a tree crown, scatter) are triangulated in their best-fit plane with
-// a shorter edge limit, which keeps a leafy blob from growing sheets across its gaps; points along
-// a single line (one scan line, a thin pole seen edge-on) give no faces until more points arrive.
+// a shorter edge limit, which keeps a leafy blob from growing sheets across its gaps, and so are
+// upright planar ones, more mildly; points along a single line (one scan line, a thin pole seen
+// edge-on) give no faces until more points arrive.
 
 #include <vector>
 
@@ -17,10 +18,20 @@
 
 namespace artemis::mapping {
 
+// A plane whose normal is this close to the world's vertical (|n_z| above it, ~45 deg) is level:
+// the ground, a roof; below it, upright. The mesher's edge limits and the carver's rules split so.
+inline constexpr float kLevelNormalZ = 0.7f;
+
 struct MesherParams {
   double rim_m = 0.15;                // neighbour points this close to the voxel join its triangulation
   double max_edge_m = 0.6;            // longest edge of a face on a planar voxel
   double max_edge_nonplanar_m = 0.3;  // ... on a non-planar one
+  // ... on a planar voxel that stands upright (its normal more than ~45 deg from vertical: a wall,
+  // a hedge's face, a car's side). The scanner's beams lie far closer on such surfaces than on the
+  // ground ahead (on KITTI within 30 m: ~0.2 m apart and less), so a longer edge there spans a gap:
+  // foliage, an occlusion's shadow, a window. (KITTI 0013 0-49: precision at 0.1 m 0.9245 ->
+  // 0.9298, recall 0.8745 -> 0.8739; the README's "Upright surfaces keep shorter edges".)
+  double max_edge_upright_m = 0.4;
   double min_angle_deg = 4.0;         // thinner faces are dropped
   double max_plane_angle_deg = 60.0;  // faces tilted more than this from the voxel's plane are dropped
   double nonplanar_ratio = 0.04;      // lambda_min / lambda_mid above this: not planar
