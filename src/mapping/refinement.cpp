@@ -158,20 +158,7 @@ RefinementStats Refinement::refine(const VoxelMap& map, SemanticMesh& mesh, cons
   for (const Candidate& c : candidates) stats.vertices_in_view += c.valid ? 1 : 0;
 
   // 4. The exposure gain: median of observed / mapped luminance over coloured, unoccluded vertices.
-  double gain = 1.0;
-  if (params_.exposure_gain) {
-    std::vector<float> ratios;
-    for (const Candidate& c : candidates) {
-      if (!c.sampled || c.r_geom > static_cast<float>(params_.sigma_geom) || !mesh.hasColour(c.vertex)) continue;
-      const float mapped = luminance(mesh.colourMean(c.vertex));
-      const float seen = luminance(c.colour);
-      if (mapped > 0.02f && seen > 0.02f) ratios.push_back(seen / mapped);
-    }
-    if (ratios.size() >= 100) {
-      std::nth_element(ratios.begin(), ratios.begin() + static_cast<std::ptrdiff_t>(ratios.size() / 2), ratios.end());
-      gain = std::clamp(static_cast<double>(ratios[ratios.size() / 2]), 0.25, 4.0);
-    }
-  }
+  const double gain = params_.exposure_gain ? exposureGain(candidates, mesh, params_) : 1.0;
   stats.gain = gain;
   if (memory != nullptr) memory->gain = gain;
 

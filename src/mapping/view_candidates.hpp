@@ -129,6 +129,11 @@ std::vector<Candidate> gatherCandidates(const VoxelMap& map, const SemanticMesh&
   return candidates;
 }
 
+// Step 4: the view's exposure gain, the median of observed / mapped luminance over the candidates
+// that are coloured, sampled and unoccluded (r_geom up to sigma_geom), clamped to [0.25, 4]; 1
+// with fewer than 100 of them.
+double exposureGain(const std::vector<Candidate>& candidates, const SemanticMesh& mesh, const RefinementParams& params);
+
 // Step 5: eq. 9-10, W of every candidate against the colour means before the update (the colours
 // divided by the view's gain first); below min_reliability W is 0.
 void weigh(std::vector<Candidate>& candidates, const SemanticMesh& mesh, const RefinementParams& params, double gain);
