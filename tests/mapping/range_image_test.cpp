@@ -20,17 +20,28 @@ Eigen::Vector3f direction(float azimuth, float elevation) {
   return {std::cos(elevation) * std::cos(azimuth), std::cos(elevation) * std::sin(azimuth), std::sin(elevation)};
 }
 
-TEST(RangeImage, ReturnsNearADirectionLieWithinNearAngle) {
-  // An HDL-64E-like scan (-25..+3 deg) with returns at random directions, and directions to look up
-  // in and a little beyond its elevations.
-  std::mt19937 rng(7);
-  std::uniform_real_distribution<float> azimuth(-std::numbers::pi_v<float>, std::numbers::pi_v<float>);
+// Any azimuth.
+std::uniform_real_distribution<float> azimuths() {
+  return std::uniform_real_distribution<float>(-std::numbers::pi_v<float>, std::numbers::pi_v<float>);
+}
+
+// An HDL-64E-like scan (-25..+3 deg) of `returns` returns at random directions and ranges, binned
+// as the carver bins them (0.2 deg in azimuth, 0.25 in elevation).
+void buildRandomScan(RangeImage& image, std::mt19937& rng, int returns) {
+  std::uniform_real_distribution<float> azimuth = azimuths();
   std::uniform_real_distribution<float> elevation(-25.0f * kDeg, 3.0f * kDeg);
   std::uniform_real_distribution<float> range(3.0f, 60.0f);
   std::vector<Eigen::Vector3f> points;
-  for (int i = 0; i < 200000; ++i) points.push_back(direction(azimuth(rng), elevation(rng)) * range(rng));
-  RangeImage image(0.2f, 0.25f);
+  for (int i = 0; i < returns; ++i) points.push_back(direction(azimuth(rng), elevation(rng)) * range(rng));
   image.build(points, 2.5f, 100.0f, 3.0f);
+}
+
+TEST(RangeImage, ReturnsNearADirectionLieWithinNearAngle) {
+  // Directions looked up in the scan's elevations and a little beyond.
+  std::mt19937 rng(7);
+  RangeImage image(0.2f, 0.25f);
+  buildRandomScan(image, rng, 200000);
+  std::uniform_real_distribution<float> azimuth = azimuths();
 
   std::uniform_real_distribution<float> looked_up(-26.0f * kDeg, 4.0f * kDeg);
   float widest = 0.0f;
@@ -53,13 +64,9 @@ TEST(RangeImage, FarthestNearIsTheFarthestReturnVisited) {
   // everywhere, the first and last azimuth bins (where the image wraps around) and the rows at
   // and beyond its edges included.
   std::mt19937 rng(11);
-  std::uniform_real_distribution<float> azimuth(-std::numbers::pi_v<float>, std::numbers::pi_v<float>);
-  std::uniform_real_distribution<float> elevation(-25.0f * kDeg, 3.0f * kDeg);
-  std::uniform_real_distribution<float> range(3.0f, 60.0f);
-  std::vector<Eigen::Vector3f> points;
-  for (int i = 0; i < 20000; ++i) points.push_back(direction(azimuth(rng), elevation(rng)) * range(rng));
   RangeImage image(0.2f, 0.25f);
-  image.build(points, 2.5f, 100.0f, 3.0f);
+  buildRandomScan(image, rng, 20000);
+  std::uniform_real_distribution<float> azimuth = azimuths();
   // Inside the image the lookup is exact; beyond its first and last rows it answers for the edge
   // row, an upper bound (all the carver needs).
   const int first_row = image.cellOf(direction(0.0f, -24.5f * kDeg)).row;
