@@ -26,6 +26,8 @@ packages=(
   python3 python3-numpy python3-open3d
   # the ONNX segmenter's tests write their small models with Debian's onnx package
   python3-onnx
+  # build/bench/memory_bench plots memory over the frames (OUT/memory.png)
+  python3-matplotlib
   python3-rosbag python3-sensor-msgs python3-geometry-msgs python3-nav-msgs python3-tf2-msgs
   # the browser viewer: Node.js installs three.js and the test tools from npm; the browser tests
   # drive Debian's Chromium
