@@ -134,9 +134,9 @@ VoxelMeshResult IncrementalMesher::meshVoxel(const VoxelMap& map, const Semantic
     const Vector3f centre = (points[sorted[0].second] + points[sorted[1].second] + points[sorted[2].second]) / 3.0f;
     // The owner is the voxel holding the centroid; when that voxel has no points (and so never
     // meshes), the voxel of origin of the face's smallest vertex id: the same rule everywhere.
-    VoxelKey owner = voxelKeyOf(centre, inv_size);
-    if (map.find(owner) == nullptr) owner = mesh.voxels()[sorted[0].first];
-    if (!(owner == key)) continue;
+    // This voxel exists, so only a face whose fallback is this voxel needs the centroid's looked up.
+    const VoxelKey holder = voxelKeyOf(centre, inv_size);
+    if (!(holder == key) && !(mesh.voxels()[sorted[0].first] == key && map.find(holder) == nullptr)) continue;
     const Vector3d pa = points[ia].cast<double>();
     const Vector3d pb = points[ib].cast<double>();
     const Vector3d pc = points[ic].cast<double>();
