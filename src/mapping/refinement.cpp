@@ -57,6 +57,20 @@ std::vector<Face> facesOf(const VoxelMap& map, const SemanticMesh& mesh, const s
   return faces;
 }
 
+// The vertices of `voxels`, voxel after voxel.
+std::vector<std::uint32_t> verticesOf(const VoxelMap& map, const std::vector<std::uint32_t>& voxels) {
+  std::vector<std::size_t> offsets(voxels.size() + 1, 0);
+  for (std::size_t i = 0; i < voxels.size(); ++i) offsets[i + 1] = offsets[i] + map.voxelAt(voxels[i]).vertices.size();
+  std::vector<std::uint32_t> vertices(offsets.back());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, voxels.size(), 256), [&](const auto& range) {
+    for (std::size_t i = range.begin(); i < range.end(); ++i) {
+      const std::vector<std::uint32_t>& own = map.voxelAt(voxels[i]).vertices;
+      std::copy(own.begin(), own.end(), vertices.begin() + static_cast<std::ptrdiff_t>(offsets[i]));
+    }
+  });
+  return vertices;
+}
+
 }  // namespace
 
 Refinement::Refinement(const RefinementParams& params, double background_score, const GeometricPriorParams& geometry)
@@ -75,15 +89,17 @@ Refinement::Refinement(const RefinementParams& params, double background_score, 
 
 RefinementStats Refinement::refine(const VoxelMap& map, SemanticMesh& mesh, const RefinementInput& input,
                                    const Isometry3d& T_W_L) {
-  RefinementStats stats;
-  if (input.view == nullptr || !input.view->hasImage() || input.view->image.channels() < 3) return stats;
+  return refine(look(map, mesh, input, T_W_L), mesh.positions(), mesh, input, T_W_L);
+}
+
+ViewLook Refinement::look(const VoxelMap& map, const SemanticMesh& mesh, const RefinementInput& input,
+                          const Isometry3d& T_W_L) const {
+  ViewLook look;
+  if (input.view == nullptr || !input.view->hasImage() || input.view->image.channels() < 3) return look;
   const CameraView& view = *input.view;
-  const semantics::SemanticObservation* observation = params_.semantic_refinement && input.observation != nullptr &&
-                                                              input.observation->observed && mesh.slotCount() >= 2
-                                                          ? input.observation
-                                                          : nullptr;
-  const bool texture = input.texture;
-  if (!texture && observation == nullptr) return stats;
+  const bool semantic = params_.semantic_refinement && input.observation != nullptr && input.observation->observed &&
+                        mesh.slotCount() >= 2;
+  if (!input.texture && !semantic) return look;
   const PinholeCamera& camera = view.camera;
   const int w = view.image.width();
   const int h = view.image.height();
@@ -92,11 +108,42 @@ RefinementStats Refinement::refine(const VoxelMap& map, SemanticMesh& mesh, cons
                                 " but the camera " + std::to_string(camera.width_px) + "x" +
                                 std::to_string(camera.height_px));
   }
+  look.refines = true;
+  look.vertex_count = mesh.vertexCount();
+  // 1. Culling: blocks, then voxels.
+  Stopwatch clock;
+  look.voxels = voxelsInView(map, camera, T_W_L * view.T_L_C, params_.max_range_m);
+  look.cull_ms = clock.elapsedMs();
+  // The faces of the voxels in view (step 2 renders them) and their vertices (step 3 samples them).
+  clock.reset();
+  look.faces = facesOf(map, mesh, look.voxels);
+  look.vertices = verticesOf(map, look.voxels);
+  look.copy_ms = clock.elapsedMs();
+  return look;
+}
+
+RefinementStats Refinement::refine(const ViewLook& look, std::span<const Eigen::Vector3f> positions,
+                                   SemanticMesh& mesh, const RefinementInput& input, const Isometry3d& T_W_L) {
+  RefinementStats stats;
+  if (!look.refines) return stats;
+  if (positions.size() < look.vertex_count) {
+    throw std::invalid_argument("refinement: " + std::to_string(positions.size()) + " vertex positions for a look at " +
+                                std::to_string(look.vertex_count) + " vertices");
+  }
+  const CameraView& view = *input.view;
+  const semantics::SemanticObservation* observation = params_.semantic_refinement && input.observation != nullptr &&
+                                                              input.observation->observed && mesh.slotCount() >= 2
+                                                          ? input.observation
+                                                          : nullptr;
+  const bool texture = input.texture;
+  const PinholeCamera& camera = view.camera;
+  const int w = view.image.width();
+  const int h = view.image.height();
   const Isometry3d T_W_C = T_W_L * view.T_L_C;
 
   // The frame's LiDAR depth, its least within the window: bridges the gaps between beams and marks
   // the pixels just beside a nearer object's silhouette. On another core, while the mesh in view is
-  // culled and rendered.
+  // rendered.
   const bool lidar = input.points_L != nullptr && params_.lidar_window_px >= 0;
   tbb::task_group lidar_depth;
   if (lidar) {
@@ -105,23 +152,20 @@ RefinementStats Refinement::refine(const VoxelMap& map, SemanticMesh& mesh, cons
       minFilter(lidar_.nearest, params_.lidar_window_px);
     });
   }
-
-  // 1. Culling: blocks, then voxels.
-  Stopwatch clock;
-  stats.voxels = voxelsInView(map, camera, T_W_C, params_.max_range_m);
+  stats.voxels = look.voxels;
   const std::vector<std::uint32_t>& voxels = stats.voxels;
   stats.voxels_in_view = voxels.size();
-  stats.cull_ms = clock.elapsedMs();
+  stats.cull_ms = look.cull_ms;
 
   // 2. The reference depth: the faces of the voxels in view, rendered from the camera.
-  clock.reset();
-  const std::vector<Face> faces = facesOf(map, mesh, voxels);
+  Stopwatch clock;
+  const std::vector<Face>& faces = look.faces;
   stats.faces_rendered = faces.size();
   render::View render_view;
   render_view.camera = camera;
   render_view.T_W_C = T_W_C;
   render_view.far_m = params_.max_range_m * 2.0;
-  render::Picture reference = render::rasterize({mesh.positions(), faces, {}}, render_view);
+  render::Picture reference = render::rasterize({positions.first(look.vertex_count), faces, {}}, render_view);
   lidar_depth.wait();
   if (lidar) {
     std::vector<float>& z = reference.depth.data();
@@ -146,14 +190,14 @@ RefinementStats Refinement::refine(const VoxelMap& map, SemanticMesh& mesh, cons
       }
     });
     memory->T_W_C = T_W_C;
-    memory->vertices = static_cast<std::uint32_t>(mesh.vertexCount());
+    memory->vertices = static_cast<std::uint32_t>(look.vertex_count);
   }
-  stats.depth_ms = clock.elapsedMs();
+  stats.depth_ms = look.copy_ms + clock.elapsedMs();
 
   // 3. Each vertex of those voxels: its pixel, colour (bilinear) and geometric residual.
   clock.reset();
   const ImageF32& z_ref = reference.depth;
-  std::vector<Candidate> candidates = gatherCandidates(map, mesh, voxels, ViewSampler(view, T_W_C, params_),
+  std::vector<Candidate> candidates = gatherCandidates(positions, look.vertices, ViewSampler(view, T_W_C, params_),
                                                        [&z_ref](int u, int v) { return z_ref.at(u, v); });
   for (const Candidate& c : candidates) stats.vertices_in_view += c.valid ? 1 : 0;
 
@@ -166,7 +210,7 @@ RefinementStats Refinement::refine(const VoxelMap& map, SemanticMesh& mesh, cons
   weigh(candidates, mesh, params_, gain);
 
   // 6. The updates, texture and semantics side by side; every candidate is a distinct vertex.
-  const auto fuse_texture = [&] { fuseColours(candidates, mesh, params_); };
+  const auto fuse_texture = [&] { fuseColours(candidates, mesh, params_, look.vertex_count); };
   const auto refine_semantics = [&] {
     // A vertex this frame's LiDAR saw through (every return around its pixel lies well behind it)
     // was not there when the image was taken, such as the trail a moving car left: the pixel shows
@@ -221,7 +265,8 @@ RefinementStats Refinement::refine(const VoxelMap& map, SemanticMesh& mesh, cons
   return stats;
 }
 
-RefinementStats Refinement::revisit(SemanticMesh& mesh, const CameraView& view, const ViewMemory& memory) {
+RefinementStats Refinement::revisit(SemanticMesh& mesh, const CameraView& view, const ViewMemory& memory,
+                                    std::span<const Eigen::Vector3f> positions) {
   RefinementStats stats;
   if (memory.empty() || !view.hasImage() || view.image.channels() < 3) return stats;
   if (memory.depth.width() != view.image.width() || memory.depth.height() != view.image.height()) {
@@ -229,7 +274,7 @@ RefinementStats Refinement::revisit(SemanticMesh& mesh, const CameraView& view, 
                                 "x" + std::to_string(memory.depth.height()) + " but its image " +
                                 std::to_string(view.image.width()) + "x" + std::to_string(view.image.height()));
   }
-  const auto end = static_cast<std::uint32_t>(mesh.vertexCount());
+  const auto end = static_cast<std::uint32_t>(positions.size());
   if (memory.vertices >= end) return stats;  // nothing new
 
   // The vertices added since, still without colour.
@@ -248,7 +293,7 @@ RefinementStats Refinement::revisit(SemanticMesh& mesh, const CameraView& view, 
       if (mesh.hasColour(v)) continue;
       Candidate c;
       c.vertex = v;
-      if (sampler.sample(mesh.positions()[v], c, depth_at)) mine.push_back(c);
+      if (sampler.sample(positions[v], c, depth_at)) mine.push_back(c);
     }
   });
   std::vector<Candidate> candidates;
@@ -256,7 +301,7 @@ RefinementStats Refinement::revisit(SemanticMesh& mesh, const CameraView& view, 
   stats.vertices_in_view = candidates.size();
   stats.gain = memory.gain;
   weigh(candidates, mesh, params_, memory.gain);
-  fuseColours(candidates, mesh, params_);
+  fuseColours(candidates, mesh, params_, end);
   const std::vector<std::uint32_t>& voxel_of = mesh.voxelIndices();
   for (const Candidate& c : candidates) {
     if (!(c.reliability > 0.0f)) continue;

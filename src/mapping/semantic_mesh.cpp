@@ -187,9 +187,9 @@ std::vector<ByteRange> SemanticMesh::roomAhead(std::size_t count) const {
           artemis::roomAhead(colour_var_, colours)};
 }
 
-void SemanticMesh::reserveColours() {
-  colour_mean_.resize(positions_.size(), Eigen::Vector3f::Zero());
-  colour_var_.resize(positions_.size(), Eigen::Vector3f::Zero());
+void SemanticMesh::reserveColours(std::size_t count) {
+  if (colour_mean_.size() < count) colour_mean_.resize(count, Eigen::Vector3f::Zero());
+  if (colour_var_.size() < count) colour_var_.resize(count, Eigen::Vector3f::Zero());
 }
 
 void SemanticMesh::fuseColour(std::uint32_t v, const Eigen::Vector3f& c, float variance) {

@@ -80,9 +80,10 @@ void weigh(std::vector<Candidate>& candidates, const SemanticMesh& mesh, const R
 }
 
 // The colour update: an observation with variance sigma_obs^2 / W; every candidate is a distinct vertex.
-void fuseColours(const std::vector<Candidate>& candidates, SemanticMesh& mesh, const RefinementParams& params) {
+void fuseColours(const std::vector<Candidate>& candidates, SemanticMesh& mesh, const RefinementParams& params,
+                 std::size_t vertices) {
   const auto obs_var = static_cast<float>(params.sigma_obs * params.sigma_obs);
-  mesh.reserveColours();
+  mesh.reserveColours(vertices);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, candidates.size(), 4096), [&](const auto& range) {
     for (std::size_t k = range.begin(); k < range.end(); ++k) {
       const Candidate& c = candidates[k];

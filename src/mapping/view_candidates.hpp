@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <span>
 #include <vector>
 
 #include <tbb/blocked_range.h>
@@ -108,22 +109,17 @@ class ViewSampler {
   const std::array<float, 256>& lut_;
 };
 
-// Step 3 for every vertex of `voxels`; the candidates keep the voxels' order.
+// Step 3 for each of `vertices` (at `positions`, by id), in their order.
 template <typename DepthAt>
-std::vector<Candidate> gatherCandidates(const VoxelMap& map, const SemanticMesh& mesh,
-                                        const std::vector<std::uint32_t>& voxels, const ViewSampler& sampler,
+std::vector<Candidate> gatherCandidates(std::span<const Eigen::Vector3f> positions,
+                                        const std::vector<std::uint32_t>& vertices, const ViewSampler& sampler,
                                         const DepthAt& depth_at) {
-  std::vector<std::size_t> offset(voxels.size() + 1, 0);
-  for (std::size_t k = 0; k < voxels.size(); ++k) offset[k + 1] = offset[k] + map.voxelAt(voxels[k]).vertices.size();
-  std::vector<Candidate> candidates(offset.back());
-  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, voxels.size(), 64), [&](const auto& range) {
+  std::vector<Candidate> candidates(vertices.size());
+  tbb::parallel_for(tbb::blocked_range<std::size_t>(0, vertices.size(), 1024), [&](const auto& range) {
     for (std::size_t k = range.begin(); k < range.end(); ++k) {
-      const Voxel& voxel = map.voxelAt(voxels[k]);
-      for (std::size_t j = 0; j < voxel.vertices.size(); ++j) {
-        Candidate& c = candidates[offset[k] + j];
-        c.vertex = voxel.vertices[j];
-        sampler.sample(mesh.positions()[c.vertex], c, depth_at);
-      }
+      Candidate& c = candidates[k];
+      c.vertex = vertices[k];
+      sampler.sample(positions[c.vertex], c, depth_at);
     }
   });
   return candidates;
@@ -138,7 +134,9 @@ double exposureGain(const std::vector<Candidate>& candidates, const SemanticMesh
 // divided by the view's gain first); below min_reliability W is 0.
 void weigh(std::vector<Candidate>& candidates, const SemanticMesh& mesh, const RefinementParams& params, double gain);
 
-// The colour update: an observation with variance sigma_obs^2 / W; every candidate is a distinct vertex.
-void fuseColours(const std::vector<Candidate>& candidates, SemanticMesh& mesh, const RefinementParams& params);
+// The colour update: an observation with variance sigma_obs^2 / W; every candidate is a distinct
+// vertex, one of the mesh's first `vertices`.
+void fuseColours(const std::vector<Candidate>& candidates, SemanticMesh& mesh, const RefinementParams& params,
+                 std::size_t vertices);
 
 }  // namespace artemis::mapping::detail

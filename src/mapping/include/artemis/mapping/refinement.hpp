@@ -56,6 +56,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <span>
 #include <vector>
 
 #include <Eigen/Core>
@@ -136,6 +137,21 @@ struct RefinementInput {
   const semantics::Vocabulary* vocabulary = nullptr;  // names the classes of a dense observation
 };
 
+// What a view's refinement reads of the map, taken first (Refinement::look): the voxels in view,
+// their faces and their vertices (voxel after voxel), and the mesh's vertex count then. The rest
+// of the refinement reads only those vertices' positions and the colours, and writes colours (and
+// classes, with an observation): it can run while the next frame's points go in, which only adds
+// vertices (Mapper::handOver).
+struct ViewLook {
+  bool refines = false;  // false: the view has nothing to refine (no image, no texture and no classes)
+  std::vector<std::uint32_t> voxels;
+  std::vector<Face> faces;
+  std::vector<std::uint32_t> vertices;
+  std::size_t vertex_count = 0;
+  double cull_ms = 0.0;
+  double copy_ms = 0.0;  // faces and vertices
+};
+
 // The voxels of `map` whose bounds may be in the view: blocks first, then voxels. Indices into
 // the map, ascending.
 std::vector<std::uint32_t> voxelsInView(const VoxelMap& map, const PinholeCamera& camera, const Isometry3d& T_W_C,
@@ -148,14 +164,27 @@ class Refinement {
   explicit Refinement(const RefinementParams& params, double background_score = 0.5,
                       const GeometricPriorParams& geometry = {});
 
-  // Refines the colours and classes of the vertices `input.view` sees from the LiDAR pose `T_W_L`.
+  // Refines the colours and classes of the vertices `input.view` sees from the LiDAR pose `T_W_L`:
+  // look(), then refine() of what it took.
   RefinementStats refine(const VoxelMap& map, SemanticMesh& mesh, const RefinementInput& input,
                          const Isometry3d& T_W_L);
+  // The refinement's look at the map (see ViewLook). Throws std::invalid_argument when the image
+  // and the camera disagree in size.
+  [[nodiscard]] ViewLook look(const VoxelMap& map, const SemanticMesh& mesh, const RefinementInput& input,
+                              const Isometry3d& T_W_L) const;
+  // The rest: `positions` are the mesh's first look.vertex_count vertex positions.
+  RefinementStats refine(const ViewLook& look, std::span<const Eigen::Vector3f> positions, SemanticMesh& mesh,
+                         const RefinementInput& input, const Isometry3d& T_W_L);
 
   // Colours, from `view` refined earlier with `memory`, the vertices added to the mesh since that
   // are still without colour and that it sees (texture only: its classes were taken once). The
-  // camera pose is the memory's. Costs in proportion to the vertices added since.
-  RefinementStats revisit(SemanticMesh& mesh, const CameraView& view, const ViewMemory& memory);
+  // camera pose is the memory's. Costs in proportion to the vertices added since: the mesh's
+  // vertices, or those of `positions` (the mesh's first vertices).
+  RefinementStats revisit(SemanticMesh& mesh, const CameraView& view, const ViewMemory& memory) {
+    return revisit(mesh, view, memory, mesh.positions());
+  }
+  RefinementStats revisit(SemanticMesh& mesh, const CameraView& view, const ViewMemory& memory,
+                          std::span<const Eigen::Vector3f> positions);
 
   [[nodiscard]] const RefinementParams& params() const { return params_; }
 

@@ -137,8 +137,9 @@ class SemanticMesh {
     return hasColour(v) ? colour_var_[v] : Eigen::Vector3f::Zero();
   }
   // Makes room for every vertex's colour (call before fuseColour, which may then run concurrently
-  // for distinct vertices).
-  void reserveColours();
+  // for distinct vertices); or for the first `count` vertices' (it never shrinks).
+  void reserveColours() { reserveColours(positions_.size()); }
+  void reserveColours(std::size_t count);
   // The room reserved past the end of every array that grows with the vertices, for `count` more
   // (populatePages).
   [[nodiscard]] std::vector<ByteRange> roomAhead(std::size_t count) const;
