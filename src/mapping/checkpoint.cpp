@@ -4,6 +4,7 @@
 // are left out; everything that a later frame reads is written.
 
 #include <algorithm>
+#include <stdexcept>
 #include <string>
 
 #include "artemis/core/archive.hpp"
@@ -299,6 +300,8 @@ void FreeSpaceCarver::load(ArchiveReader& in) {
 }
 
 void Mapper::save(ArchiveWriter& out) const {
+  // Colours still to be written would be missing from the state (and the views from stage 2's).
+  if (handed_over_) throw std::logic_error("Mapper::save: stage 2 work handed over is not done (completeHandedOver)");
   out.section("mapper");
   map_.save(out);
   mesh_.save(out);
@@ -308,6 +311,7 @@ void Mapper::save(ArchiveWriter& out) const {
 }
 
 void Mapper::load(ArchiveReader& in) {
+  handed_over_ = nullptr;  // the state it was handed over in is gone
   in.section("mapper");
   map_.load(in);
   mesh_.load(in);

@@ -15,13 +15,9 @@
 
 #include "artemis/core/prefault.hpp"
 #include "artemis/core/timer.hpp"
+#include "mapper_arena.hpp"
 
 namespace artemis::mapping {
-
-struct Mapper::Arena {
-  explicit Arena(int threads) : arena(threads > 0 ? threads : tbb::task_arena::automatic) {}
-  tbb::task_arena arena;
-};
 
 namespace {
 
@@ -79,12 +75,20 @@ FrameStats Mapper::integrate(const PointCloud& points_L, const Isometry3d& T_W_L
   mesh_.beginFrame();
   mesh_.addChanges(reloaded_);  // the tiles loaded back before this frame
   reloaded_ = {};
+  // Fusion writes what handed-over stage 2 work may read: that work is done first.
+  if (semantic != nullptr) completeHandedOver();
   Stopwatch clock;
   // The carver's look at the frame alone (its range image, its ground) needs nothing of the map: it
   // goes on another core while this thread inserts the frame, which it does mostly alone (in scan
-  // order). Isolated, this thread's parallel loops until then do not take it up.
+  // order), and so does the stage 2 work handed over (handOver), after it, until the frame is
+  // carved. Isolated, this thread's parallel loops until then do not take them up.
   tbb::task_group carver_look;
-  arena_->arena.execute([&] { carver_look.run([&] { carver_.prepare(points_L.points, T_W_L); }); });
+  tbb::task_group stage_two;
+  std::function<void()> handed = takeHandedOver(points_L.size());
+  arena_->arena.execute([&] {
+    carver_look.run([&] { carver_.prepare(points_L.points, T_W_L); });
+    if (handed) stage_two.run(handed);
+  });
   const Eigen::Matrix3f R = T_W_L.linear().cast<float>();
   const Eigen::Vector3f t = T_W_L.translation().cast<float>();
   std::vector<Eigen::Vector3f>& points_W = points_W_;  // reused: no fresh pages every frame
@@ -139,6 +143,12 @@ FrameStats Mapper::integrate(const PointCloud& points_L, const Isometry3d& T_W_L
   arena_->arena.execute([&] { carved = carver_.carve(points_L.points, T_W_L, map_, active); });
   dropCarvedFaces(carved);
   stats.carve_ms = clock.elapsedMs();
+  // Inserting and carving add and remove points and faces but move no vertex and write no colour:
+  // the handed-over work saw the state it was handed over in. (Running it beside meshing too was
+  // no faster: it then slowed the meshing down as much.)
+  clock.reset();
+  arena_->arena.execute([&] { stage_two.wait(); });
+  stats.stage_two_wait_ms = clock.elapsedMs();
   stats.points_carved = carved.vertices.size();
   stats.points_tested_free = carved.points_tested;
 
@@ -257,6 +267,7 @@ void Mapper::dropCarvedFaces(const CarveStats& carved) {
 
 FusionStats Mapper::fuseLate(const PointCloud& points_L, const Isometry3d& T_W_L, const SemanticInput& semantic) {
   if (semantic.view == nullptr || semantic.observation == nullptr) return {};
+  completeHandedOver();
   FusionStats f;
   arena_->arena.execute([&] {
     f = fusion_.fuseLate(points_L, map_, T_W_L, *semantic.view, *semantic.observation, mesh_, semantic.vocabulary);
@@ -265,18 +276,21 @@ FusionStats Mapper::fuseLate(const PointCloud& points_L, const Isometry3d& T_W_L
 }
 
 RefinementStats Mapper::refine(const RefinementInput& input, const Isometry3d& T_W_L) {
+  completeHandedOver();
   RefinementStats stats;
   arena_->arena.execute([&] { stats = refinement_.refine(map_, mesh_, input, T_W_L); });
   return stats;
 }
 
 RefinementStats Mapper::revisit(const CameraView& view, const ViewMemory& memory) {
+  completeHandedOver();
   RefinementStats stats;
   arena_->arena.execute([&] { stats = refinement_.revisit(mesh_, view, memory); });
   return stats;
 }
 
 std::size_t Mapper::finish() {
+  completeHandedOver();
   mesh_.beginFrame();
   const std::vector<VoxelKey> pending = pendingAmong(map_.keys());
   meshInChunks(pending);

@@ -76,6 +76,7 @@ std::vector<VoxelKey> Mapper::voxelsOf(const std::set<TileKey>& tiles, std::vect
 }
 
 Result<EvictionStats> Mapper::evictTiles(const std::vector<Eigen::Vector3f>& keep_near) {
+  completeHandedOver();
   std::size_t in_memory = 0;
   const std::set<TileKey> far = leftTiles(keep_near, &in_memory);
   Stopwatch clock;
@@ -91,6 +92,7 @@ Result<EvictionStats> Mapper::evictTiles(const std::vector<Eigen::Vector3f>& kee
 }
 
 Result<EvictionStats> Mapper::dropTiles(const std::set<TileKey>& far) {
+  completeHandedOver();
   EvictionStats stats;
   if (far.empty()) return stats;
   Stopwatch clock;
@@ -107,6 +109,7 @@ Result<EvictionStats> Mapper::dropTiles(const std::set<TileKey>& far) {
 }
 
 std::size_t Mapper::closeTiles(const std::set<TileKey>& far) {
+  completeHandedOver();
   if (far.empty()) return 0;
   const std::vector<VoxelKey> keys = voxelsOf(far, nullptr);
   // The voxels in memory just across the border: meshed later, they would miss the points of the
@@ -148,6 +151,7 @@ bool Mapper::cornersIn(const Face& f, const std::set<TileKey>& tiles, bool outsi
 }
 
 Result<std::size_t> Mapper::writeRemainingTiles() {
+  completeHandedOver();
   if (!tiles_.enabled()) return std::size_t{0};
   std::set<TileKey> live;
   for (const VoxelKey& k : mesh_.voxels()) {

@@ -209,6 +209,7 @@ std::set<TileKey> Mapper::returnedTiles(const Eigen::Vector3f& sensor_W) const {
 }
 
 Result<ReloadStats> Mapper::reloadTiles(const std::set<TileKey>& tiles) {
+  completeHandedOver();
   ReloadStats stats;
   if (tiles.empty()) return stats;
   Stopwatch clock;

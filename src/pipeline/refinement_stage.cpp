@@ -1,6 +1,9 @@
 #include "refinement_stage.hpp"
 
 #include <algorithm>
+#include <memory>
+#include <span>
+#include <vector>
 
 #include "artemis/core/log.hpp"
 #include "artemis/core/timer.hpp"
@@ -68,18 +71,27 @@ std::optional<mapping::RefinementStats> RefinementStage::flush() {
   return looked_at;
 }
 
+mapping::RefinementInput RefinementStage::inputOf(WaitingView& d, bool keep, mapping::ViewMemory& memory) const {
+  return {&d.frame.cameras[d.camera],
+          d.texture,
+          d.semantics ? &d.observation : nullptr,
+          &d.frame.points_L,
+          keep && revisits_ && d.texture ? &memory : nullptr,
+          params_.semantics.vocabulary};
+}
+
 mapping::RefinementStats RefinementStage::refine(WaitingView& d, bool keep) {
   Stopwatch clock;
   mapping::ViewMemory memory;
-  const mapping::RefinementInput input{&d.frame.cameras[d.camera],
-                                       d.texture,
-                                       d.semantics ? &d.observation : nullptr,
-                                       &d.frame.points_L,
-                                       keep && revisits_ && d.texture ? &memory : nullptr,
-                                       params_.semantics.vocabulary};
-  const mapping::RefinementStats r = mapper_.refine(input, d.T_W_L);
+  const mapping::RefinementStats r = mapper_.refine(inputOf(d, keep, memory), d.T_W_L);
+  refined(d, memory, r, clock.elapsedMs());
+  return r;
+}
+
+void RefinementStage::refined(WaitingView& d, mapping::ViewMemory& memory, const mapping::RefinementStats& r,
+                              double ms) {
   if (!memory.empty()) kept_.push_back({std::move(d.frame.cameras[d.camera]), std::move(memory), d.i, d.frame.index});
-  report_.times.add("refine", clock.elapsedMs());
+  report_.times.add("refine", ms);
   report_.frames_textured += d.texture ? 1 : 0;
   report_.frames_semantic_refined += d.semantics ? 1 : 0;
   log::debug(
@@ -87,16 +99,63 @@ mapping::RefinementStats RefinementStage::refine(WaitingView& d, bool keep) {
       "labelled, gain {:.3f}; cull {:.1f} ms, depth {:.1f} ms, fuse {:.1f} ms",
       d.frame.index, r.voxels_in_view, r.faces_rendered, r.vertices_in_view, r.vertices_updated, r.vertices_labelled,
       r.gain, r.cull_ms, r.depth_ms, r.fuse_ms);
-  return r;
 }
 
 mapping::RefinementStats RefinementStage::revisit(const KeptView& k) {
   Stopwatch clock;
   const mapping::RefinementStats r = mapper_.revisit(k.view, k.memory);
-  report_.times.add("revisit", clock.elapsedMs());
-  log::debug("frame {}: revisit: {} grey vertices added since in view, {} coloured (in {} voxels); {:.1f} ms", k.index,
-             r.vertices_in_view, r.vertices_updated, r.voxels_in_view, clock.elapsedMs());
+  revisited(k, r, clock.elapsedMs());
   return r;
+}
+
+void RefinementStage::revisited(const KeptView& k, const mapping::RefinementStats& r, double ms) {
+  report_.times.add("revisit", ms);
+  log::debug("frame {}: revisit: {} grey vertices added since in view, {} coloured (in {} voxels); {:.1f} ms", k.index,
+             r.vertices_in_view, r.vertices_updated, r.voxels_in_view, ms);
+}
+
+struct RefinementStage::HandedViews {
+  std::vector<WaitingView> views;
+  std::vector<mapping::ViewMemory> memories;
+  std::vector<mapping::RefinementInput> inputs;  // into views and memories
+  std::vector<mapping::ViewLook> looks;
+  std::vector<double> look_ms;
+  std::vector<KeptView> kept;
+};
+
+void RefinementStage::handOverDue(std::size_t i) {
+  auto handed = std::make_shared<HandedViews>();
+  const auto delay = static_cast<std::size_t>(params_.texture_delay);
+  for (; !waiting_.empty() && waiting_.front().i + delay <= i; waiting_.pop_front()) {
+    handed->views.push_back(std::move(waiting_.front()));
+  }
+  // The views refined now are kept after the revisits of this frame (as in runDue: a view is
+  // never due for its revisit when it is refined).
+  const auto revisit_after = static_cast<std::size_t>(params_.texture_revisit);
+  for (; !kept_.empty() && kept_.front().i + revisit_after <= i; kept_.pop_front()) {
+    handed->kept.push_back(std::move(kept_.front()));
+  }
+  if (handed->views.empty() && handed->kept.empty()) return;
+  handed->memories.resize(handed->views.size());
+  for (std::size_t k = 0; k < handed->views.size(); ++k) {
+    handed->inputs.push_back(inputOf(handed->views[k], true, handed->memories[k]));
+    Stopwatch clock;
+    handed->looks.push_back(mapper_.lookForRefinement(handed->inputs[k], handed->views[k].T_W_L));
+    handed->look_ms.push_back(clock.elapsedMs());
+  }
+  // It runs while the next frame is inserted, which touches none of the stage's views or the report.
+  mapper_.handOver([this, handed](mapping::Mapper& mapper, std::span<const Eigen::Vector3f> positions) {
+    for (std::size_t k = 0; k < handed->views.size(); ++k) {
+      Stopwatch clock;
+      WaitingView& d = handed->views[k];
+      const mapping::RefinementStats r = mapper.refineLooked(handed->looks[k], positions, handed->inputs[k], d.T_W_L);
+      refined(d, handed->memories[k], r, handed->look_ms[k] + clock.elapsedMs());
+    }
+    for (const KeptView& k : handed->kept) {
+      Stopwatch clock;
+      revisited(k, mapper.revisitUpTo(k.view, k.memory, positions), clock.elapsedMs());
+    }
+  });
 }
 
 }  // namespace artemis::pipeline

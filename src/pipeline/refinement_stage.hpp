@@ -47,6 +47,14 @@ class RefinementStage {
   // unreadable frame) and revisits the kept views now due. Returns the voxels they all looked at
   // (nullopt: none was due).
   std::optional<mapping::RefinementStats> runDue(std::size_t i);
+  // runDue's work, handed over to run beside the next frame's insert (Mapper::handOver): the views
+  // due are looked at now, the rest is done by the next frame's integrate() or complete(). Results
+  // as runDue's; for runs without an observer (the voxels looked at are not returned) and without
+  // semantics (fusion would write what the work reads).
+  void handOverDue(std::size_t i);
+  // Does what handOverDue handed over, if it is not done yet: before anything else reads the views
+  // or the colours.
+  void complete() { mapper_.completeHandedOver(); }
   // After the final meshing: every view still waiting or kept.
   std::optional<mapping::RefinementStats> flush();
 
@@ -71,6 +79,13 @@ class RefinementStage {
   // `keep`: the view is kept for a revisit (not after the final meshing: nothing is added since).
   mapping::RefinementStats refine(WaitingView& view, bool keep);
   mapping::RefinementStats revisit(const KeptView& kept);
+  // What refine() gives the mapper for `view`, filling `memory` when the view is kept.
+  [[nodiscard]] mapping::RefinementInput inputOf(WaitingView& view, bool keep, mapping::ViewMemory& memory) const;
+  // After a view's refinement (or revisit) that took `ms`: the view kept, the report and the log.
+  void refined(WaitingView& view, mapping::ViewMemory& memory, const mapping::RefinementStats& r, double ms);
+  void revisited(const KeptView& kept, const mapping::RefinementStats& r, double ms);
+  // The views handOverDue took, their inputs and looks.
+  struct HandedViews;
 
   mapping::Mapper& mapper_;
   const RunParams& params_;

@@ -50,10 +50,10 @@ Status checkParams(const RunParams& params, bool recording_poses) {
 void logFrame(std::size_t frame_index, const mapping::FrameStats& stats) {
   log::debug(
       "frame {}: {} points, {} kept, {} carved of {} tested, {} active voxels, {} meshed, insert {:.1f} ms, carve "
-      "{:.1f} ms, mesh {:.1f} ms, constrain {:.1f} ms ({} of {} patch vertices; patch {:.1f}, build {:.1f}, solve "
-      "{:.1f} ms; {} faces cut)",
+      "{:.1f} ms, stage 2 wait {:.1f} ms, mesh {:.1f} ms, constrain {:.1f} ms ({} of {} patch vertices; patch "
+      "{:.1f}, build {:.1f}, solve {:.1f} ms; {} faces cut)",
       frame_index, stats.points, stats.points_kept, stats.points_carved, stats.points_tested_free, stats.active_voxels,
-      stats.meshed_voxels, stats.insert_ms, stats.carve_ms, stats.mesh_ms, stats.constrain_ms,
+      stats.meshed_voxels, stats.insert_ms, stats.carve_ms, stats.stage_two_wait_ms, stats.mesh_ms, stats.constrain_ms,
       stats.constraint.active_vertices, stats.constraint.patch_vertices, stats.constraint.patch_ms,
       stats.constraint.build_ms, stats.constraint.solve_ms, stats.faces_cut);
 }
@@ -126,6 +126,7 @@ class Run {
   FrameReader reader_;  // last: stopped first, while what it feeds still stands
   bool warned_vehicle_box_ = false;
   Status tile_error_ = Status::ok();
+  const bool hand_over_ = !params_.observer && params_.semantics.segmenter == nullptr;
 };
 
 bool Run::frame(std::size_t i) {
@@ -153,8 +154,14 @@ bool Run::frame(std::size_t i) {
   recordMapping(stats, read_ms, frame_index);
   queueView(i, frame, view, semantics, T_W_L);
   semantics_.acceptArrived(stage2_);
-  // The observer hears of every view stage 2 looked at in this frame.
-  const std::optional<mapping::RefinementStats> refined = stage2_.runDue(i);
+  // The observer hears of every view stage 2 looked at in this frame. Without one, and without
+  // semantics, stage 2 runs beside the next frame's insert (RefinementStage::handOverDue).
+  std::optional<mapping::RefinementStats> refined;
+  if (hand_over_) {
+    stage2_.handOverDue(i);
+  } else {
+    refined = stage2_.runDue(i);
+  }
   const double frame_ms = frame_clock.elapsedMs() - semantics.wait_ms;
   poses_.mapped(i, T_W_L, frame_stamp_s);
   ++report_.frames;
@@ -239,6 +246,7 @@ Result<bool> Run::finishTiles(const fs::path& staging) {
 }
 
 void Run::save(ArchiveWriter& out) {
+  stage2_.complete();
   if (params_.semantics.realtime) semantics_.drain(stage2_);
   out.section("run");
   out.value(static_cast<std::uint8_t>(warned_vehicle_box_));

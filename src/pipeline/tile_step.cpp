@@ -43,6 +43,7 @@ const std::set<mapping::TileKey>& TileStep::closeLeftTiles(std::size_t i, const 
   const mapping::TileParams& p = mapper_.params().tiles;
   if (!p.enabled || (i + 1) % static_cast<std::size_t>(p.check_every) != 0) return closing_;
   Stopwatch clock;
+  stage2_.complete();  // its views are where they will be
   std::vector<Eigen::Vector3f> keep_near = stage2_.viewPositions();
   keep_near.push_back(T_W_L.translation().cast<float>());
   std::size_t in_memory = 0;

@@ -10,6 +10,7 @@
 #include <future>
 #include <memory>
 #include <set>
+#include <span>
 
 #include "artemis/core/heap_prefaulter.hpp"
 #include "artemis/core/point_cloud.hpp"
@@ -61,6 +62,7 @@ struct FrameStats {
   double fuse_ms = 0.0;                      // semantic fusion (1b), when the frame came with an observation
   double constrain_ms = 0.0;                 // semantic constraint (1d): cutting faces and moving vertices
   double carve_ms = 0.0;                     // free space: counting misses and removing what was seen through
+  double stage_two_wait_ms = 0.0;            // after carving, for stage 2 work handed over (Mapper::handOver)
   std::size_t points = 0;                    // points given
   std::size_t points_kept = 0;               // new mesh vertices
   std::size_t points_in_vehicle_path = 0;    // dropped: inside the vehicle's box at this or an earlier pose
@@ -127,6 +129,28 @@ class Mapper {
   RefinementStats refine(const RefinementInput& input, const Isometry3d& T_W_L);
   // Stage 2 again for a view refined earlier: colours the vertices added since (Refinement::revisit).
   RefinementStats revisit(const CameraView& view, const ViewMemory& memory);
+
+  // Stage 2 beside the next frame (handover.cpp). A view's refinement reads the map only in its
+  // look (Refinement::look); the rest reads the positions of the vertices it took and the colours,
+  // and writes colours. Inserting and carving a frame add and remove points and faces, but move no
+  // vertex and write no colour. So once a frame is mapped, the views due are looked at and the
+  // rest of their work is handed over: the next integrate() runs it on the core that its serial
+  // insert leaves idle and beside the carving, and waits for it before meshing. The results are
+  // those of doing the work at once; any other call that changes the map or the mesh does it
+  // first. The work gets the positions of the mesh's vertices at the hand-over.
+  using HandedOver = std::function<void(Mapper&, std::span<const Eigen::Vector3f> positions)>;
+  // The look of refine(input, T_W_L), taken now.
+  [[nodiscard]] ViewLook lookForRefinement(const RefinementInput& input, const Isometry3d& T_W_L) const;
+  // Hands `work` over to the next integrate() (after doing what was handed over before). It must
+  // write nothing but colours, through refineLooked() and revisitUpTo().
+  void handOver(HandedOver work);
+  // Does what was handed over now, if the next integrate() has not.
+  void completeHandedOver();
+  // For handed-over work: refine() from a look, and revisit() of the vertices at `positions`.
+  RefinementStats refineLooked(const ViewLook& look, std::span<const Eigen::Vector3f> positions,
+                               const RefinementInput& input, const Isometry3d& T_W_L);
+  RefinementStats revisitUpTo(const CameraView& view, const ViewMemory& memory,
+                              std::span<const Eigen::Vector3f> positions);
   // Gives `cls` a semantic slot (a class newly prompted); see SemanticMesh::addSemanticClass.
   void addSemanticClass(semantics::ClassId cls) { mesh_.addSemanticClass(cls); }
   // Meshes every voxel with points added since it was last meshed (and applies the semantic
@@ -181,6 +205,8 @@ class Mapper {
   // those points held up goes at once, and finish() re-meshes the voxels, closing the gaps where
   // the points that stay allow it.
   void dropCarvedFaces(const CarveStats& carved);
+  // What was handed over, to run beside an insert of at most `points` points (empty: nothing was).
+  std::function<void()> takeHandedOver(std::size_t points);
   // Starts providing the pages of room for `vertices` more vertices and `voxels` more voxels.
   void prefaultNextFrame(std::size_t vertices, std::size_t voxels);
   // The voxels of `active` whose points grew enough since they were last meshed (or that have
@@ -233,6 +259,8 @@ class Mapper {
   TileStore tiles_;
   std::vector<Eigen::Vector3f> points_W_;
   std::vector<std::uint8_t> drop_;
+  HandedOver handed_over_;                  // stage 2 work for the next integrate() (handOver)
+  std::size_t handed_vertices_ = 0;         // the mesh's vertex count at the hand-over
   std::vector<std::uint8_t> carved_flags_;  // per vertex: removed by this frame's carving (dropCarvedFaces)
   // The pages the next frame's vertices and voxels will be written to, provided by a thread of
   // their own while this frame is carved and meshed (populatePages); waited for by the next frame.

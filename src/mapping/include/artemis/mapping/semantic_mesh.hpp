@@ -45,6 +45,11 @@ class SemanticMesh {
  public:
   // Vertices, structure of arrays; index = vertex id.
   [[nodiscard]] std::size_t vertexCount() const { return positions_.size(); }
+  // Makes room for `count` more vertices now, so that adding them moves no per-vertex array (what
+  // runs beside the adding keeps reading the arrays where they are).
+  void reserveVertices(std::size_t count) {
+    while (positions_.capacity() - positions_.size() < count) growVertexRoom();
+  }
   [[nodiscard]] const std::vector<Eigen::Vector3f>& positions() const { return positions_; }
   [[nodiscard]] const std::vector<Eigen::Vector3f>& normals() const { return normals_; }
   [[nodiscard]] const std::vector<VoxelKey>& voxels() const { return voxels_; }
