@@ -169,16 +169,23 @@ TEST(RunPipeline, NegativeTextureDelayIsAnError) {
   }
 }
 
+// Texture on, each view due for refinement once its frame is mapped (no delay), revisited
+// `revisit` frames after its frame.
+pipeline::RunParams texturedAtOnce(int revisit) {
+  pipeline::RunParams params;
+  params.texture = true;
+  params.texture_delay = 0;
+  params.texture_revisit = revisit;
+  return params;
+}
+
 // Every textured view is revisited once; held-out views are neither refined nor kept, so their
 // images never colour the mesh they are scored against.
 TEST(RunPipeline, EachTexturedViewIsRevisitedOnceAndHeldOutViewsNever) {
   auto dataset = datasets::openDataset(recording(), datasets::DatasetFormat::kAuto, datasets::DatasetOptions{});
   ASSERT_TRUE(dataset);
-  pipeline::RunParams params;
-  params.texture = true;
+  pipeline::RunParams params = texturedAtOnce(1);
   params.texture_holdout = 2;
-  params.texture_delay = 0;
-  params.texture_revisit = 1;
   test::TempDir out;
   auto report = pipeline::runPipeline(**dataset, params, out.path(), "{}\n");
   ASSERT_TRUE(report) << report.status().toString();
@@ -194,10 +201,7 @@ TEST(RunPipeline, EachTexturedViewIsRevisitedOnceAndHeldOutViewsNever) {
 TEST(RunPipeline, StageTwoBesideTheNextFrameColoursAsRightAfterIt) {
   auto dataset = datasets::openDataset(recording(), datasets::DatasetFormat::kAuto, datasets::DatasetOptions{});
   ASSERT_TRUE(dataset);
-  pipeline::RunParams params;
-  params.texture = true;
-  params.texture_delay = 0;
-  params.texture_revisit = 2;
+  pipeline::RunParams params = texturedAtOnce(2);
   test::TempDir beside;
   auto handed = pipeline::runPipeline(**dataset, params, beside.path(), "{}\n");
   ASSERT_TRUE(handed) << handed.status().toString();
