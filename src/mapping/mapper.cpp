@@ -164,8 +164,10 @@ FrameStats Mapper::integrate(const PointCloud& points_L, const Isometry3d& T_W_L
   clock.reset();
   std::vector<VoxelKey> due = dueForMeshing(active);
   sortSpatially(due);
-  stats.meshed_voxels = meshVoxels(due, &stats);
-  stats.mesh_ms = clock.elapsedMs() - stats.constrain_ms;
+  const std::function<void()> beside = std::move(beside_constraint_);
+  beside_constraint_ = nullptr;
+  stats.meshed_voxels = meshVoxels(due, &stats, beside);
+  stats.mesh_ms = clock.elapsedMs() - stats.constrain_ms - stats.beside_constraint_wait_ms;
   return stats;
 }
 
@@ -356,7 +358,8 @@ void Mapper::fillHoles(const std::vector<Face>& faces, const std::function<bool(
   }
 }
 
-std::size_t Mapper::meshVoxels(const std::vector<VoxelKey>& keys, FrameStats* stats) {
+std::size_t Mapper::meshVoxels(const std::vector<VoxelKey>& keys, FrameStats* stats,
+                               const std::function<void()>& beside) {
   std::vector<VoxelMeshResult> results(keys.size());
   std::vector<std::size_t> cut(keys.size(), 0);
   const bool constrain = params_.constraint.enabled && mesh_.slotCount() > 1;
@@ -388,9 +391,16 @@ std::size_t Mapper::meshVoxels(const std::vector<VoxelKey>& keys, FrameStats* st
   }
   Stopwatch clock;
   ConstraintStats constrained;
-  if (params_.constraint.enabled) arena_->arena.execute([&] { constrained = constraint_.apply(map_, mesh_, keys); });
+  tbb::task_group beside_group;  // on the core the constraint's serial parts leave idle
+  arena_->arena.execute([&] {
+    if (beside) beside_group.run(beside);
+    if (params_.constraint.enabled) constrained = constraint_.apply(map_, mesh_, keys);
+  });
+  const double constrain_ms = clock.elapsedMs();
+  arena_->arena.execute([&] { beside_group.wait(); });
   if (stats != nullptr) {
-    stats->constrain_ms = clock.elapsedMs();
+    stats->constrain_ms = constrain_ms;
+    stats->beside_constraint_wait_ms = clock.elapsedMs() - constrain_ms;
     for (const std::size_t c : cut) stats->faces_cut += c;
     stats->constraint = constrained;
   }

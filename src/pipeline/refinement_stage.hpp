@@ -8,6 +8,8 @@
 #include <cstddef>
 #include <deque>
 #include <optional>
+#include <utility>
+#include <vector>
 
 #include "artemis/core/frame.hpp"
 #include "artemis/core/transform.hpp"
@@ -55,6 +57,9 @@ class RefinementStage {
   // Does what handOverDue handed over, if it is not done yet: before anything else reads the views
   // or the colours.
   void complete() { mapper_.completeHandedOver(); }
+  // Before the range's i-th frame is mapped: the views already waiting that will be due after it
+  // are looked at beside its constraint (Mapper::besideNextConstraint), for handOverDue(i).
+  void lookBesideConstraint(std::size_t i);
   // After the final meshing: every view still waiting or kept.
   std::optional<mapping::RefinementStats> flush();
 
@@ -93,6 +98,10 @@ class RefinementStage {
   bool revisits_;
   std::deque<WaitingView> waiting_;  // oldest first
   std::deque<KeptView> kept_;        // oldest first
+  // Looks taken beside a frame's constraint (lookBesideConstraint), by the view's place in the
+  // range, with the time each took; handOverDue uses and clears them.
+  std::vector<std::pair<std::size_t, mapping::ViewLook>> early_looks_;
+  std::vector<double> early_look_ms_;
 };
 
 }  // namespace artemis::pipeline

@@ -7,6 +7,7 @@
 #include <iterator>
 #include <nlohmann/json.hpp>
 #include <set>
+#include <string>
 #include <vector>
 
 #include "artemis/datasets/dataset.hpp"
@@ -169,12 +170,11 @@ TEST(RunPipeline, NegativeTextureDelayIsAnError) {
   }
 }
 
-// Texture on, each view due for refinement once its frame is mapped (no delay), revisited
-// `revisit` frames after its frame.
-pipeline::RunParams texturedAtOnce(int revisit) {
+// Texture on, each view refined `delay` frames after its own and revisited `revisit` frames after it.
+pipeline::RunParams textured(int delay, int revisit) {
   pipeline::RunParams params;
   params.texture = true;
-  params.texture_delay = 0;
+  params.texture_delay = delay;
   params.texture_revisit = revisit;
   return params;
 }
@@ -184,7 +184,7 @@ pipeline::RunParams texturedAtOnce(int revisit) {
 TEST(RunPipeline, EachTexturedViewIsRevisitedOnceAndHeldOutViewsNever) {
   auto dataset = datasets::openDataset(recording(), datasets::DatasetFormat::kAuto, datasets::DatasetOptions{});
   ASSERT_TRUE(dataset);
-  pipeline::RunParams params = texturedAtOnce(1);
+  pipeline::RunParams params = textured(0, 1);
   params.texture_holdout = 2;
   test::TempDir out;
   auto report = pipeline::runPipeline(**dataset, params, out.path(), "{}\n");
@@ -195,31 +195,36 @@ TEST(RunPipeline, EachTexturedViewIsRevisitedOnceAndHeldOutViewsNever) {
   EXPECT_EQ(report->times.samples("revisit").size(), 2u);
 }
 
-// Without an observer, stage 2 runs beside the next frame's insert (RefinementStage::handOverDue);
-// with one, right after each frame. The colours must be the same bytes either way, and views must
-// be refined while frames are mapped (not only at the end) for that to say anything.
+// Without an observer, stage 2 runs beside the next frame's insert (RefinementStage::handOverDue),
+// after looks taken beside the constraint of the frame it follows (with a delay); with one, right
+// after each frame. The colours must be the same bytes either way, and views must be refined while
+// frames are mapped (not only at the end) for that to say anything.
 TEST(RunPipeline, StageTwoBesideTheNextFrameColoursAsRightAfterIt) {
   auto dataset = datasets::openDataset(recording(), datasets::DatasetFormat::kAuto, datasets::DatasetOptions{});
   ASSERT_TRUE(dataset);
-  pipeline::RunParams params = texturedAtOnce(2);
-  test::TempDir beside;
-  auto handed = pipeline::runPipeline(**dataset, params, beside.path(), "{}\n");
-  ASSERT_TRUE(handed) << handed.status().toString();
-  std::size_t updates = 0;
-  params.observer = [&updates](const pipeline::FrameUpdate& update) {
-    updates += update.refinement != nullptr && !update.finished ? 1 : 0;
-  };
-  test::TempDir after;
-  auto at_once = pipeline::runPipeline(**dataset, params, after.path(), "{}\n");
-  ASSERT_TRUE(at_once) << at_once.status().toString();
-  EXPECT_EQ(updates, 4u);  // each frame's view was refined after the frame, not at the end
-  EXPECT_EQ(handed->times.samples("refine").size(), 4u);
-  EXPECT_EQ(at_once->times.samples("refine").size(), 4u);
-  EXPECT_EQ(handed->times.samples("revisit").size(), at_once->times.samples("revisit").size());
-  const eval::MeshArrays mesh = readMesh(beside / "mesh.ply");
-  std::set<std::array<std::uint8_t, 3>> colours(mesh.colours.begin(), mesh.colours.end());
-  EXPECT_GT(colours.size(), 1000u);  // textured, not one grey
-  EXPECT_TRUE(read(beside / "mesh.ply") == read(after / "mesh.ply")) << "the two runs' mesh.ply differ";
+  for (const int delay : {0, 1}) {
+    SCOPED_TRACE("texture delay " + std::to_string(delay));
+    pipeline::RunParams params = textured(delay, 2);
+    test::TempDir beside;
+    auto handed = pipeline::runPipeline(**dataset, params, beside.path(), "{}\n");
+    ASSERT_TRUE(handed) << handed.status().toString();
+    std::size_t updates = 0;
+    params.observer = [&updates](const pipeline::FrameUpdate& update) {
+      updates += update.refinement != nullptr && !update.finished ? 1 : 0;
+    };
+    test::TempDir after;
+    auto at_once = pipeline::runPipeline(**dataset, params, after.path(), "{}\n");
+    ASSERT_TRUE(at_once) << at_once.status().toString();
+    // The views refined after a frame, not at the end: 4 frames less the delay.
+    EXPECT_EQ(updates, static_cast<std::size_t>(4 - delay));
+    EXPECT_EQ(handed->times.samples("refine").size(), 4u);
+    EXPECT_EQ(at_once->times.samples("refine").size(), 4u);
+    EXPECT_EQ(handed->times.samples("revisit").size(), at_once->times.samples("revisit").size());
+    const eval::MeshArrays mesh = readMesh(beside / "mesh.ply");
+    std::set<std::array<std::uint8_t, 3>> colours(mesh.colours.begin(), mesh.colours.end());
+    EXPECT_GT(colours.size(), 1000u);  // textured, not one grey
+    EXPECT_TRUE(read(beside / "mesh.ply") == read(after / "mesh.ply")) << "the two runs' mesh.ply differ";
+  }
 }
 
 // The simulated recording's poses withheld: registration alone must find them.

@@ -63,6 +63,7 @@ struct FrameStats {
   double constrain_ms = 0.0;                 // semantic constraint (1d): cutting faces and moving vertices
   double carve_ms = 0.0;                     // free space: counting misses and removing what was seen through
   double stage_two_wait_ms = 0.0;            // after carving, for stage 2 work handed over (Mapper::handOver)
+  double beside_constraint_wait_ms = 0.0;    // after the constraint, for the work beside it (besideNextConstraint)
   std::size_t points = 0;                    // points given
   std::size_t points_kept = 0;               // new mesh vertices
   std::size_t points_in_vehicle_path = 0;    // dropped: inside the vehicle's box at this or an earlier pose
@@ -144,6 +145,10 @@ class Mapper {
   // Hands `work` over to the next integrate() (after doing what was handed over before). It must
   // write nothing but colours, through refineLooked() and revisitUpTo().
   void handOver(HandedOver work);
+  // Work that reads the map and the mesh's faces but no vertex position, writing none of them
+  // (looks at the views due after the frame): the next integrate() runs it beside the constraint,
+  // which only moves vertices, once the frame is meshed.
+  void besideNextConstraint(std::function<void()> work) { beside_constraint_ = std::move(work); }
   // Does what was handed over now, if the next integrate() has not.
   void completeHandedOver();
   // For handed-over work: refine() from a look, and revisit() of the vertices at `positions`.
@@ -215,8 +220,10 @@ class Mapper {
   // The keys of `voxels` (indices) and of their 26 neighbours, sorted, once each.
   [[nodiscard]] std::vector<VoxelKey> keysAround(const std::vector<std::uint32_t>& voxels) const;
   // Meshes `keys` (1c), cutting the faces the semantic constraint refuses, then moves their
-  // vertices (1d); adds the constraint's figures to `stats` when given.
-  std::size_t meshVoxels(const std::vector<VoxelKey>& keys, FrameStats* stats = nullptr);
+  // vertices (1d), with `beside` (when given) running meanwhile; adds the constraint's figures to
+  // `stats` when given.
+  std::size_t meshVoxels(const std::vector<VoxelKey>& keys, FrameStats* stats = nullptr,
+                         const std::function<void()>& beside = {});
   // The voxels among `keys` with points added since they were meshed, or whose neighbours gained
   // points since then (their rim, and so the faces along their border, changed); spatially sorted.
   [[nodiscard]] std::vector<VoxelKey> pendingAmong(const std::vector<VoxelKey>& keys) const;
@@ -259,7 +266,8 @@ class Mapper {
   TileStore tiles_;
   std::vector<Eigen::Vector3f> points_W_;
   std::vector<std::uint8_t> drop_;
-  HandedOver handed_over_;                  // stage 2 work for the next integrate() (handOver)
+  HandedOver handed_over_;                   // stage 2 work for the next integrate() (handOver)
+  std::function<void()> beside_constraint_;  // work for the next integrate() (besideNextConstraint)
   std::size_t handed_vertices_ = 0;         // the mesh's vertex count at the hand-over
   std::vector<std::uint8_t> carved_flags_;  // per vertex: removed by this frame's carving (dropCarvedFaces)
   // The pages the next frame's vertices and voxels will be written to, provided by a thread of
