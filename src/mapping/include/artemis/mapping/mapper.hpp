@@ -268,8 +268,8 @@ class Mapper {
   std::vector<std::uint8_t> drop_;
   HandedOver handed_over_;                   // stage 2 work for the next integrate() (handOver)
   std::function<void()> beside_constraint_;  // work for the next integrate() (besideNextConstraint)
-  std::size_t handed_vertices_ = 0;         // the mesh's vertex count at the hand-over
-  std::vector<std::uint8_t> carved_flags_;  // per vertex: removed by this frame's carving (dropCarvedFaces)
+  std::size_t handed_vertices_ = 0;          // the mesh's vertex count at the hand-over
+  std::vector<std::uint8_t> carved_flags_;   // per vertex: removed by this frame's carving (dropCarvedFaces)
   // The pages the next frame's vertices and voxels will be written to, provided by a thread of
   // their own while this frame is carved and meshed (populatePages); waited for by the next frame.
   std::future<void> prefault_;
