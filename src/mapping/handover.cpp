@@ -21,11 +21,7 @@ void Mapper::handOver(HandedOver work) {
 }
 
 void Mapper::completeHandedOver() {
-  if (!handed_over_) return;
-  HandedOver work = std::move(handed_over_);
-  handed_over_ = nullptr;
-  const std::span<const Eigen::Vector3f> positions(mesh_.positions().data(), handed_vertices_);
-  arena_->arena.execute([&] { work(*this, positions); });
+  if (const std::function<void()> run = takeHandedOver(0)) arena_->arena.execute(run);
 }
 
 std::function<void()> Mapper::takeHandedOver(std::size_t points) {

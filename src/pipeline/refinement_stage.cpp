@@ -119,13 +119,11 @@ struct RefinementStage::HandedViews {
   std::vector<mapping::ViewMemory> memories;
   std::vector<mapping::RefinementInput> inputs;  // into views and memories
   std::vector<mapping::ViewLook> looks;
-  std::vector<double> look_ms;
   std::vector<KeptView> kept;
 };
 
 void RefinementStage::lookBesideConstraint(std::size_t i) {
   early_looks_.clear();
-  early_look_ms_.clear();
   const auto delay = static_cast<std::size_t>(params_.texture_delay);
   std::vector<WaitingView*> due;
   for (WaitingView& w : waiting_) {
@@ -133,14 +131,11 @@ void RefinementStage::lookBesideConstraint(std::size_t i) {
   }
   if (due.empty()) return;
   early_looks_.resize(due.size());
-  early_look_ms_.resize(due.size());
   // The look takes no memory; the views stay where they are in the queue until handOverDue.
   mapper_.besideNextConstraint([this, due] {
     for (std::size_t k = 0; k < due.size(); ++k) {
-      Stopwatch clock;
       mapping::ViewMemory unused;
       early_looks_[k] = {due[k]->i, mapper_.lookForRefinement(inputOf(*due[k], false, unused), due[k]->T_W_L)};
-      early_look_ms_[k] = clock.elapsedMs();
     }
   });
 }
@@ -163,24 +158,19 @@ void RefinementStage::handOverDue(std::size_t i) {
     handed->inputs.push_back(inputOf(handed->views[k], true, handed->memories[k]));
     const auto early = std::find_if(early_looks_.begin(), early_looks_.end(),
                                     [&](const auto& look) { return look.first == handed->views[k].i; });
-    if (early != early_looks_.end()) {
-      handed->looks.push_back(std::move(early->second));
-      handed->look_ms.push_back(early_look_ms_[static_cast<std::size_t>(early - early_looks_.begin())]);
-      continue;
-    }
-    Stopwatch clock;
-    handed->looks.push_back(mapper_.lookForRefinement(handed->inputs[k], handed->views[k].T_W_L));
-    handed->look_ms.push_back(clock.elapsedMs());
+    handed->looks.push_back(early != early_looks_.end()
+                                ? std::move(early->second)
+                                : mapper_.lookForRefinement(handed->inputs[k], handed->views[k].T_W_L));
   }
   early_looks_.clear();
-  early_look_ms_.clear();
   // It runs while the next frame is inserted, which touches none of the stage's views or the report.
   mapper_.handOver([this, handed](mapping::Mapper& mapper, std::span<const Eigen::Vector3f> positions) {
     for (std::size_t k = 0; k < handed->views.size(); ++k) {
       Stopwatch clock;
       WaitingView& d = handed->views[k];
-      const mapping::RefinementStats r = mapper.refineLooked(handed->looks[k], positions, handed->inputs[k], d.T_W_L);
-      refined(d, handed->memories[k], r, handed->look_ms[k] + clock.elapsedMs());
+      const mapping::ViewLook& look = handed->looks[k];
+      const mapping::RefinementStats r = mapper.refineLooked(look, positions, handed->inputs[k], d.T_W_L);
+      refined(d, handed->memories[k], r, look.cull_ms + look.copy_ms + clock.elapsedMs());
     }
     for (const KeptView& k : handed->kept) {
       Stopwatch clock;

@@ -99,9 +99,8 @@ class RefinementStage {
   std::deque<WaitingView> waiting_;  // oldest first
   std::deque<KeptView> kept_;        // oldest first
   // Looks taken beside a frame's constraint (lookBesideConstraint), by the view's place in the
-  // range, with the time each took; handOverDue uses and clears them.
+  // range; handOverDue uses and clears them.
   std::vector<std::pair<std::size_t, mapping::ViewLook>> early_looks_;
-  std::vector<double> early_look_ms_;
 };
 
 }  // namespace artemis::pipeline
