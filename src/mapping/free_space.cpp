@@ -22,11 +22,6 @@ constexpr float kElevationStepDeg = 0.25f;
 // Level points at most this far above the lowest returns nearby are ground (a kerb, a verge, a
 // pavement); a car's bonnet (~0.8 m) and roof (~1.4 m) are not.
 constexpr float kGroundBandM = 0.5f;
-// A ray passes under a roof point when it passes at least this far below it.
-constexpr float kUnderM = 0.02f;
-// A grazing ray says nothing of the points within this distance (plus its `lateral`) of the surface
-// it skims: a wall's bumps, a kerb beside the road it skims.
-constexpr float kSkimBandM = 0.25f;
 // A ray meets its surface at grazing incidence where the range grows by more than this many times
 // the distance to the neighbouring rays (~72 deg from the normal).
 constexpr float kGrazingSlope = 3.0f;
@@ -39,6 +34,11 @@ constexpr float kRecentTravelM = 15.0f;
 // Far voxels whose points span less than this in height are level (the road, a verge): no ray
 // from the sensor crosses them at the incidence a far test needs.
 constexpr float kUprightExtentM = 0.15f;
+// ... or whose lowest point stands this far above the ground nearby: far away, a car's body gives
+// a voxel one row of returns, level, but off the road.
+constexpr float kStandingM = 0.3f;
+// The ground is known as far as the recent far points are tested (a car's back, seen at 30-80 m).
+constexpr double kGroundRadiusM = 80.0;
 
 }  // namespace
 
@@ -80,6 +80,7 @@ CarveStats FreeSpaceCarver::carve(const std::vector<Eigen::Vector3f>& points_L, 
     for (const Sweep& sweep : earlier_) before.push_back(&sweep);
     countMisses(before, Tested::kNew, created, map, flags, stats);
   }
+  if (params_.companions) flagCompanions(map, flags);
   stats.voxels.reserve(flags.size());
   for (const auto& entry : flags) stats.voxels.push_back(entry.first);
   std::sort(stats.voxels.begin(), stats.voxels.end());
@@ -113,7 +114,7 @@ void FreeSpaceCarver::prepare(const std::vector<Eigen::Vector3f>& points_L, cons
   current_.t_L_W = -(current_.R_L_W * T_W_L.translation().cast<float>());
   current_.image->build(points_L, static_cast<float>(params_.min_return_range_m), std::numeric_limits<float>::max(),
                         kGrazingSlope);
-  ground_ = FrameGround(points_L, T_W_L);
+  ground_ = FrameGround(points_L, T_W_L, {.radius_m = kGroundRadiusM});
   prepared_ = true;
 }
 
@@ -204,7 +205,8 @@ void FreeSpaceCarver::rememberRecent(const Eigen::Vector3f& sensor_W, const Voxe
   for (std::size_t i = 0; i < active.size(); ++i) {
     if (indices[i] == VoxelMap::kNoVertex || !blockBeyond(blockOf(active[i]), sensor_W, near, map)) continue;
     const Voxel& v = map.voxelAt(indices[i]);
-    if (v.hi.z() - v.lo.z() >= kUprightExtentM) keys.push_back(active[i]);
+    const Eigen::Vector3f foot(0.5f * (v.lo.x() + v.hi.x()), 0.5f * (v.lo.y() + v.hi.y()), v.lo.z());
+    if (v.hi.z() - v.lo.z() >= kUprightExtentM || ground_.heightAbove(foot) > kStandingM) keys.push_back(active[i]);
   }
   recent_.push_front(std::move(keys));
 }
@@ -266,14 +268,14 @@ std::pair<std::size_t, std::size_t> FreeSpaceCarver::countVoxel(std::span<const 
       // car driving away leaves lies in one frame's returns; a far wall is hit frame after frame.
       const bool far = r > max_range;
       if (!(r >= min_range) || (far && (tested == Tested::kNew || !(recent && e.hits == 1)))) continue;
-      // Far away, where the rays lie tens of centimetres apart, only a ray that crosses the plane
-      // of p's voxel counts: the scattered far points of foliage would go by the rays beside them.
-      // Rays from the sensor meet a level plane there at grazing incidence: only upright ones.
       if (!n_W) n_W = planeOf(v);
-      if (far && !(*n_W != Eigen::Vector3f::Zero() && std::abs(n_W->z()) <= kLevelNormalZ)) continue;
       ++count;
-      if (!lie) lie = lieOf(v.points[j], *n_W);
-      if (!seenThrough(*sweep->image, p_L, sweep->R_L_W * *n_W, sweep->R_L_W.col(2), *lie, far)) continue;
+      if (far) {
+        if (!seenFromFar(*sweep, p_L, *n_W)) continue;
+      } else {
+        if (!lie) lie = lieOf(v.points[j], *n_W);
+        if (!seenThrough(*sweep->image, p_L, sweep->R_L_W * *n_W, sweep->R_L_W.col(2), *lie, false)) continue;
+      }
       ++seen;
       if (e.misses < 255) ++e.misses;
     }
@@ -305,67 +307,6 @@ Eigen::Vector3f FreeSpaceCarver::planeOf(Voxel& v) const {
     v.plane_points = static_cast<std::uint32_t>(v.points.size());
   }
   return v.plane_normal;
-}
-
-bool FreeSpaceCarver::seenThrough(const detail::RangeImage& image, const Eigen::Vector3f& p_L,
-                                  const Eigen::Vector3f& n_L, const Eigen::Vector3f& up_L, Lie lie,
-                                  bool crossing_only) const {
-  const float r = p_L.norm();
-  const Eigen::Vector3f d = p_L / r;
-  const auto lateral = static_cast<float>(params_.lateral_m + params_.lateral_per_m * r);
-  const float lateral2 = lateral * lateral;
-  const auto margin = static_cast<float>(params_.margin_m + params_.margin_per_m * r);
-  const auto beside = static_cast<float>(params_.beside_margin_m + params_.margin_per_m * r);
-  const auto min_cos = static_cast<float>(params_.min_incidence_cos);
-  const bool plane = n_L != Eigen::Vector3f::Zero();
-  // On level ground (and where asked) only a ray that crosses p's plane at min_cos or steeper
-  // counts. The rays looked at below lie within nearAngle() of the direction to p, so their
-  // incidence differs from its by less than that: where p's own is grazing, none can count. Most
-  // points tested on a street are road at grazing incidence.
-  if ((crossing_only || lie == Lie::kGround) && !(plane && std::abs(n_L.dot(d)) + image.nearAngle() >= min_cos)) {
-    return false;
-  }
-  // Most points lie where this scan's rays end, or behind them: one look says no ray goes beyond.
-  const detail::RangeImage::Cell cell = image.cellOf(d);
-  if (image.farthestNear(cell) <= r + std::min(margin, beside) - lateral) return false;
-  bool through = false;
-  image.forEachNear(cell, [&](const detail::RangeImage::Return& q) {
-    // The crossing lies within `lateral` of p, so a ray ending before r + margin - lateral cannot
-    // end `margin` beyond it.
-    if (through || q.range_m <= r + std::min(margin, beside) - lateral) return;
-    const float cos_incidence = plane ? n_L.dot(q.direction) : 0.0f;
-    if (std::abs(cos_incidence) >= min_cos) {
-      const float t = n_L.dot(p_L) / cos_incidence;  // where the ray crosses p's surface
-      through = t > 0.0f && q.range_m > t + margin && (q.direction * t - p_L).squaredNorm() <= lateral2;
-      return;
-    }
-    if (crossing_only) return;
-    // No plane, or one the ray grazes: the ray passes beside p. It counts when it comes as near as
-    // `lateral` and ends well behind, unless p lies on level ground, where a ray skimming the road
-    // to a car behind says nothing about the road.
-    if (lie == Lie::kGround) return;
-    // A ray that skims a surface to its end (a wall it runs along, the road far ahead) says nothing
-    // of the points on that surface. It does pass through what stands off it, a roof or a scattered
-    // remnant above the road; not through an upright surface it runs along (a parked car's side,
-    // past which it reaches the road). Where the skimmed surface is unknown, nothing.
-    if (image.grazing(q)) {
-      if (lie == Lie::kUpright) return;
-      const Eigen::Vector3f n_q = image.skimmedNormal(q);
-      if (n_q == Eigen::Vector3f::Zero() || std::abs(n_q.dot(p_L - q.direction * q.range_m)) <= kSkimBandM + lateral) {
-        return;
-      }
-    }
-    const float t = q.direction.dot(p_L);  // nearest approach
-    if (!(t > 0.0f) || q.range_m <= t + beside || (p_L - q.direction * t).squaredNorm() > lateral2) return;
-    // A roof is seen through only from below: a ray that passes just over a parked car's roof and
-    // on to the road beyond says nothing of it; one that passes under where a roof was does.
-    if (lie == Lie::kRoof && (q.direction * t - p_L).dot(up_L) > -kUnderM) return;
-    // A ray that passes above p on its way down would, had p been on level ground, have met that
-    // ground soon after: it must end beyond, or p might be the floor it skimmed.
-    const float descent = q.direction.dot(up_L);
-    through = !(descent < 0.0f) || q.range_m > p_L.dot(up_L) / descent + margin;
-  });
-  return through;
 }
 
 }  // namespace artemis::mapping
