@@ -51,17 +51,28 @@ std::vector<FreeSpaceCarver::Companion> FreeSpaceCarver::companionsIn(const Voxe
                                                                       std::uint32_t index) const {
   const Voxel& v = map.voxelAt(index);
   const std::vector<std::uint8_t>& removed = flags.at(index);
-  // The voxel and the 26 around it, with their flags (null: none flagged).
-  std::array<std::pair<std::uint32_t, const std::vector<std::uint8_t>*>, 27> around;
-  std::size_t count = 0;
+  // The points hit in one frame only in the voxel and the 26 around it: gathered once for all of
+  // the voxel's carved points.
+  struct Young {
+    Eigen::Vector3f p;
+    std::uint32_t frame = 0;
+    bool flagged = false;
+    Companion at;
+  };
+  std::vector<Young> young;
   const VoxelKey key = map.keyOf(v.points.front());
   for (std::int32_t dx = -1; dx <= 1; ++dx) {
     for (std::int32_t dy = -1; dy <= 1; ++dy) {
       for (std::int32_t dz = -1; dz <= 1; ++dz) {
         const std::uint32_t n = map.indexOf({key.x + dx, key.y + dy, key.z + dz});
         if (n == VoxelMap::kNoVertex) continue;
+        const Voxel& w = map.voxelAt(n);
         const auto flagged = flags.find(n);
-        around[count++] = {n, flagged == flags.end() ? nullptr : &flagged->second};
+        for (std::size_t k = 0; k < w.points.size(); ++k) {
+          if (w.evidence[k].hits != 1) continue;
+          const bool carved = flagged != flags.end() && k < flagged->second.size() && flagged->second[k] != 0;
+          young.push_back({w.points[k], w.evidence[k].last_hit, carved, {n, static_cast<std::uint32_t>(k)}});
+        }
       }
     }
   }
@@ -73,17 +84,12 @@ std::vector<FreeSpaceCarver::Companion> FreeSpaceCarver::companionsIn(const Voxe
     const std::uint32_t frame = v.evidence[j].last_hit;
     std::size_t carved = 0;
     staying.clear();
-    for (std::size_t a = 0; a < count; ++a) {
-      const Voxel& w = map.voxelAt(around[a].first);
-      const std::vector<std::uint8_t>* flagged = around[a].second;
-      for (std::size_t k = 0; k < w.points.size(); ++k) {
-        const PointEvidence& e = w.evidence[k];
-        if (e.hits != 1 || e.last_hit != frame || (w.points[k] - p).squaredNorm() > kCompanionM * kCompanionM) continue;
-        if (flagged != nullptr && k < flagged->size() && (*flagged)[k] != 0) {
-          ++carved;
-        } else {
-          staying.push_back({around[a].first, static_cast<std::uint32_t>(k)});
-        }
+    for (const Young& y : young) {
+      if (y.frame != frame || (y.p - p).squaredNorm() > kCompanionM * kCompanionM) continue;
+      if (y.flagged) {
+        ++carved;
+      } else {
+        staying.push_back(y.at);
       }
     }
     if (carved < staying.size()) continue;  // most of what came with p stays: so does the rest

@@ -1,5 +1,6 @@
 #include "artemis/mapping/free_space.hpp"
 
+#include <algorithm>
 #include <cmath>
 
 #include "range_image.hpp"
@@ -22,6 +23,14 @@ constexpr float kPastAngleRad = 0.25f * 3.14159265f / 180.0f;
 constexpr int kPastRays = 2;
 
 }  // namespace
+
+bool FreeSpaceCarver::rayBeyond(const detail::RangeImage& image, const Eigen::Vector3f& p_L) const {
+  const float r = p_L.norm();
+  const auto lateral = static_cast<float>(params_.lateral_m + params_.lateral_per_m * r);
+  const auto margin = static_cast<float>(params_.margin_m + params_.margin_per_m * r);
+  const auto beside = static_cast<float>(params_.beside_margin_m + params_.margin_per_m * r);
+  return image.farthestNear(image.cellOf(p_L / r)) > r + std::min(margin, beside) - lateral;
+}
 
 bool FreeSpaceCarver::seenFromFar(const Sweep& sweep, const Eigen::Vector3f& p_L, const Eigen::Vector3f& n_W) const {
   // Where the rays lie tens of centimetres apart, a ray passing beside p says little: the scattered
