@@ -268,11 +268,8 @@ std::pair<std::size_t, std::size_t> FreeSpaceCarver::countVoxel(std::span<const 
       // car driving away leaves lies in one frame's returns; a far wall is hit frame after frame.
       const bool far = r > max_range;
       if (!(r >= min_range) || (far && (tested == Tested::kNew || !(recent && e.hits == 1)))) continue;
-      ++count;
-      // Most far points lie where this scan's rays end, or behind them: one look at the farthest ray
-      // near p settles them before their voxel's plane is fitted (few far voxels are meshed).
-      if (far && !rayBeyond(*sweep->image, p_L)) continue;
       if (!n_W) n_W = planeOf(v);
+      ++count;
       if (far) {
         if (!seenFromFar(*sweep, p_L, *n_W)) continue;
       } else {

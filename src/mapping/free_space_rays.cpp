@@ -20,17 +20,10 @@ constexpr float kSkimBandM = 0.25f;
 // HDL-64E's azimuth step and half its beam spacing) ends `margin` beyond it, and there are at
 // least kPastRays of them.
 constexpr float kPastAngleRad = 0.25f * 3.14159265f / 180.0f;
+const float kPastCos = std::cos(kPastAngleRad);
 constexpr int kPastRays = 2;
 
 }  // namespace
-
-bool FreeSpaceCarver::rayBeyond(const detail::RangeImage& image, const Eigen::Vector3f& p_L) const {
-  const float r = p_L.norm();
-  const auto lateral = static_cast<float>(params_.lateral_m + params_.lateral_per_m * r);
-  const auto margin = static_cast<float>(params_.margin_m + params_.margin_per_m * r);
-  const auto beside = static_cast<float>(params_.beside_margin_m + params_.margin_per_m * r);
-  return image.farthestNear(image.cellOf(p_L / r)) > r + std::min(margin, beside) - lateral;
-}
 
 bool FreeSpaceCarver::seenFromFar(const Sweep& sweep, const Eigen::Vector3f& p_L, const Eigen::Vector3f& n_W) const {
   // Where the rays lie tens of centimetres apart, a ray passing beside p says little: the scattered
@@ -51,11 +44,10 @@ bool FreeSpaceCarver::seenPast(const detail::RangeImage& image, const Eigen::Vec
   const float beyond = r + static_cast<float>(params_.margin_m + params_.margin_per_m * r);
   const detail::RangeImage::Cell cell = image.cellOf(d);
   if (image.farthestNear(cell) <= beyond) return false;
-  const float min_cos = std::cos(kPastAngleRad);
   int rays = 0;
   bool short_ray = false;
   image.forEachNear(cell, [&](const detail::RangeImage::Return& q) {
-    if (q.direction.dot(d) < min_cos) return;
+    if (q.direction.dot(d) < kPastCos) return;
     short_ray = short_ray || q.range_m <= beyond;
     ++rays;
   });

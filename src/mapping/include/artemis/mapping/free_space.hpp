@@ -243,9 +243,6 @@ class FreeSpaceCarver {
   // Whether a ray of `image` passes through point p_L whose voxel's plane has normal n_L (sensor
   // frame; zero: no plane). `up_L`: the world's up; `lie`: how p lies; `crossing_only`: only a ray
   // that crosses the plane counts, none that passes beside p.
-  // Whether any return of `image` near p_L's direction ends far enough beyond it for seenThrough()
-  // or seenFromFar() to find it seen through: when none does, neither does.
-  [[nodiscard]] bool rayBeyond(const detail::RangeImage& image, const Eigen::Vector3f& p_L) const;
   // Whether far point p_L (sweep's frame; its voxel's plane n_W, world) is seen through by `sweep`.
   [[nodiscard]] bool seenFromFar(const Sweep& sweep, const Eigen::Vector3f& p_L, const Eigen::Vector3f& n_W) const;
   // Whether every return of `image` near p_L's direction ends well beyond it (see kPastAngleRad).
