@@ -58,16 +58,16 @@ void minFilter(ImageF32& image, int r) {
   const auto row_size = static_cast<std::size_t>(w);
   float* data = image.data().data();
   const auto row = [&](int v) { return data + static_cast<std::size_t>(v) * row_size; };
-  // Along each row, in place, from a copy of the row.
+  // Along each row, in place, from a copy of the row: the least with each shift in turn, whole
+  // rows at a time (loops the compiler vectorises; a window loop per pixel does not).
   std::vector<float> line(row_size);
   for (int v = 0; v < h; ++v) {
     std::copy_n(row(v), row_size, line.data());
     float* out = row(v);
-    for (int u = 0; u < w; ++u) {
-      const int last = std::min(w - 1, u + r);
-      float m = line[static_cast<std::size_t>(std::max(0, u - r))];
-      for (int k = std::max(0, u - r) + 1; k <= last; ++k) m = std::min(m, line[static_cast<std::size_t>(k)]);
-      out[u] = m;
+    const float* in = line.data();
+    for (std::size_t s = 1; s <= static_cast<std::size_t>(r) && s < row_size; ++s) {
+      for (std::size_t u = 0; u + s < row_size; ++u) out[u] = std::min(out[u], in[u + s]);
+      for (std::size_t u = s; u < row_size; ++u) out[u] = std::min(out[u], in[u - s]);
     }
   }
   // Down the columns a whole row at a time, in memory order (a pass down each column would touch a

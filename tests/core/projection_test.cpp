@@ -1,6 +1,9 @@
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <limits>
+#include <random>
 
 #include "artemis/core/projection.hpp"
 
@@ -71,6 +74,31 @@ TEST(Projection, MinFilterTakesTheLeastOfEachWindow) {
       else if (u <= 1 && v <= 1)
         expected = 2.0f;
       EXPECT_FLOAT_EQ(image.at(u, v), expected) << u << " " << v;
+    }
+  }
+}
+
+TEST(Projection, MinFilterMatchesTheWindowsLeastEverywhere) {
+  // Random depths (some far, as where no return fell) against the least of each clipped window,
+  // for radii up to wider than the image.
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<float> depth(0.5f, 80.0f);
+  std::bernoulli_distribution empty(0.3);
+  for (const int r : {1, 2, 3, 9}) {
+    ImageF32 image(13, 8, 1, 0.0f);
+    for (float& x : image.data()) x = empty(rng) ? std::numeric_limits<float>::infinity() : depth(rng);
+    const ImageF32 before = image;
+    minFilter(image, r);
+    for (int v = 0; v < image.height(); ++v) {
+      for (int u = 0; u < image.width(); ++u) {
+        float least = std::numeric_limits<float>::infinity();
+        for (int y = std::max(0, v - r); y <= std::min(image.height() - 1, v + r); ++y) {
+          for (int x = std::max(0, u - r); x <= std::min(image.width() - 1, u + r); ++x) {
+            least = std::min(least, before.at(x, y));
+          }
+        }
+        ASSERT_EQ(image.at(u, v), least) << "r " << r << " at " << u << " " << v;
+      }
     }
   }
 }

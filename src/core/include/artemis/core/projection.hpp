@@ -38,7 +38,7 @@ struct DepthProjection {
 void projectDepth(const PointCloud& points_L, const CameraView& view, int width, int height, DepthProjection& out);
 
 // Each pixel becomes the least value of the (2 r + 1) x (2 r + 1) window around it (clipped at the
-// borders), in two separable passes. One channel.
+// borders), in two separable passes. One channel, no NaN (which of them would win is not defined).
 void minFilter(ImageF32& image, int r);
 
 }  // namespace artemis
