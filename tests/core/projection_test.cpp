@@ -80,7 +80,7 @@ TEST(Projection, MinFilterTakesTheLeastOfEachWindow) {
 
 TEST(Projection, MinFilterMatchesTheWindowsLeastEverywhere) {
   // Random depths (some far, as where no return fell) against the least of each clipped window,
-  // for radii up to wider than the image.
+  // for radii up to one wider than the image is tall.
   std::mt19937 rng(5);
   std::uniform_real_distribution<float> depth(0.5f, 80.0f);
   std::bernoulli_distribution empty(0.3);
