@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <numbers>
 
 #include "range_image.hpp"
 
@@ -19,7 +20,7 @@ constexpr float kSkimBandM = 0.25f;
 // A far point is seen past when every return within this angle of its direction (about the
 // HDL-64E's azimuth step and half its beam spacing) ends `margin` beyond it, and there are at
 // least kPastRays of them.
-constexpr float kPastAngleRad = 0.25f * 3.14159265f / 180.0f;
+constexpr float kPastAngleRad = 0.25f * std::numbers::pi_v<float> / 180.0f;
 const float kPastCos = std::cos(kPastAngleRad);
 constexpr int kPastRays = 2;
 
