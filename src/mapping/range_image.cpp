@@ -7,6 +7,7 @@
 #include <cmath>
 #include <limits>
 #include <numbers>
+#include <stdexcept>
 
 namespace artemis::mapping::detail {
 
@@ -94,6 +95,19 @@ void RangeImage::build(const std::vector<Eigen::Vector3f>& points_L, float min_r
   }
   for (std::size_t k = 0; k < returns_.size(); ++k) grazing_[k].store(0, std::memory_order_relaxed);
   findFarthest();
+}
+
+void RangeImage::adoptScratch(RangeImage& other) {
+  angles_.swap(other.angles_);
+  bin_of_.swap(other.bin_of_);
+  fill_.swap(other.fill_);
+  scratch_far_.swap(other.scratch_far_);
+}
+
+void RangeImage::forgetGrazing() {
+  grazing_.reset();
+  normals_.reset();
+  grazing_capacity_ = 0;
 }
 
 void RangeImage::findFarthest() {
@@ -214,6 +228,7 @@ std::uint8_t RangeImage::classify(std::size_t k) const {
 
 bool RangeImage::grazing(const Return& q) const {
   const auto k = static_cast<std::size_t>(&q - returns_.data());
+  if (!grazing_) throw std::logic_error("RangeImage::grazing: asked after forgetGrazing()");
   std::uint8_t known = grazing_[k].load(std::memory_order_acquire);
   if (known == 0) {
     known = classify(k);

@@ -50,6 +50,13 @@ class RangeImage {
   // with grazing() and kept; thread-safe.
   [[nodiscard]] Eigen::Vector3f skimmedNormal(const Return& q) const;
   [[nodiscard]] bool empty() const { return returns_.empty(); }
+  // Takes the room `other` builds in (and leaves it this image's): an image that is not built
+  // again needs none, and the one built next frame then finds it ready.
+  void adoptScratch(RangeImage& other);
+  // Frees what grazing() and skimmedNormal() keep (13 bytes a return, a fifth more for room): for an
+  // image only forEachNear() and farthestNear() are asked of any more. Asking grazing() after it,
+  // before the next build(), throws std::logic_error.
+  void forgetGrazing();
   // Checkpoints (mapping/checkpoint.cpp): the built image; load() into one made with the same steps.
   void save(ArchiveWriter& out) const;
   void load(ArchiveReader& in);

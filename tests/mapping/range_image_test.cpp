@@ -7,6 +7,8 @@
 #include <cmath>
 #include <numbers>
 #include <random>
+#include <stdexcept>
+#include <utility>
 #include <vector>
 
 #include "range_image.hpp"
@@ -93,6 +95,43 @@ TEST(RangeImage, FarthestNearIsTheFarthestReturnVisited) {
   EXPECT_GT(checked, 15000u);
   EXPECT_GT(empty, 100u);  // some lookups find no return at all
   EXPECT_LT(empty, checked / 2);
+}
+
+// The carver keeps its older sweeps without the room they were built in (it goes to the image built
+// next) and without their grazing answers: what they still answer stays the same, and the image that
+// took the room builds as one that never lent it.
+TEST(RangeImage, AnImageKeptWithoutItsRoomAnswersAsBefore) {
+  std::mt19937 rng(5);
+  RangeImage kept(0.2f, 0.25f);
+  buildRandomScan(kept, rng, 50000);
+  std::vector<std::pair<float, float>> before;  // per looked-up direction: farthest, sum of ranges
+  std::vector<Eigen::Vector3f> looks;
+  std::uniform_real_distribution<float> azimuth = azimuths();
+  std::uniform_real_distribution<float> elevation(-25.0f * kDeg, 3.0f * kDeg);
+  const auto answer = [&](const RangeImage& image, const Eigen::Vector3f& d) {
+    float sum = 0.0f;
+    image.forEachNear(image.cellOf(d), [&](const RangeImage::Return& q) { sum += q.range_m; });
+    return std::pair<float, float>(image.farthestNear(image.cellOf(d)), sum);
+  };
+  for (int i = 0; i < 2000; ++i) looks.push_back(direction(azimuth(rng), elevation(rng)));
+  for (const Eigen::Vector3f& d : looks) before.push_back(answer(kept, d));
+
+  RangeImage next(0.2f, 0.25f);
+  next.adoptScratch(kept);
+  kept.forgetGrazing();
+  std::mt19937 rng_next(9);
+  buildRandomScan(next, rng_next, 50000);
+  RangeImage fresh(0.2f, 0.25f);
+  std::mt19937 rng_fresh(9);
+  buildRandomScan(fresh, rng_fresh, 50000);
+  for (std::size_t i = 0; i < looks.size(); ++i) {
+    ASSERT_EQ(answer(kept, looks[i]), before[i]) << i;
+    ASSERT_EQ(answer(next, looks[i]), answer(fresh, looks[i])) << i;
+  }
+  const RangeImage::Return* any = nullptr;
+  kept.forEachNear(kept.cellOf(looks[0]), [&](const RangeImage::Return& q) { any = &q; });
+  ASSERT_NE(any, nullptr);
+  EXPECT_THROW(static_cast<void>(kept.grazing(*any)), std::logic_error);
 }
 
 }  // namespace
