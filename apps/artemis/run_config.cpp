@@ -102,6 +102,8 @@ nlohmann::ordered_json configJson(const RunFlags& f, const std::string& dataset_
         {"min_misses", m.free_space.min_misses},
         {"misses_per_hit", m.free_space.misses_per_hit},
         {"lookback_frames", m.free_space.lookback_frames},
+        {"young_lookback_frames", m.free_space.young_lookback_frames},
+        {"young_stride", m.free_space.young_stride},
         {"recent_frames", m.free_space.recent_frames},
         {"old_voxel_stride", m.free_space.old_voxel_stride},
         {"companions", m.free_space.companions}}},

@@ -12,6 +12,37 @@
 namespace artemis::cli {
 namespace {
 
+void addFreeSpaceFlags(CLI::App& cmd, mapping::FreeSpaceParams& fs) {
+  cmd.add_flag_callback(
+      "--no-free-space", [&fs] { fs.enabled = false; },
+      "Keep every point the LiDAR returned, even where later rays saw through it (moving traffic leaves trails)");
+  cmd.add_option("--free-space-range", fs.max_range_m,
+                 "Free space: test map points up to this far from the sensor against each scan's rays (m)")
+      ->capture_default_str()
+      ->check(within(1.0, 500.0));
+  cmd.add_option("--free-space-lookback", fs.lookback_frames,
+                 "Free space: test the points each frame adds against the rays of this many frames before (more: "
+                 "less of what oncoming traffic leaves behind, for more time and memory a frame)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 30));
+  cmd.add_option("--free-space-young-lookback", fs.young_lookback_frames,
+                 "Free space: the points each frame adds where the map had nothing a few frames before are also "
+                 "looked past with the rays of up to this many frames before, of every --free-space-young-stride-th "
+                 "(what passing traffic leaves where earlier scans saw the road; 0: off)")
+      ->capture_default_str()
+      ->check(CLI::Range(0, 60));
+  cmd.add_option("--free-space-young-stride", fs.young_stride,
+                 "Free space: of the frames before the last --free-space-lookback, keep the rays of every N-th for the "
+                 "young voxels' test")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 60));
+  cmd.add_option("--free-space-stride", fs.old_voxel_stride,
+                 "Free space: test the map's older points in one voxel of every N each frame, in turn (fewer tests a "
+                 "frame; a trail takes a few frames longer to go)")
+      ->capture_default_str()
+      ->check(CLI::Range(1, 64));
+}
+
 void addMapperFlags(CLI::App& cmd, RunFlags& f) {
   auto& m = f.params.mapper;
   // Each setting's range: what the method can work with, not what a good map needs.
@@ -43,23 +74,7 @@ void addMapperFlags(CLI::App& cmd, RunFlags& f) {
   cmd.add_option("--threads", m.threads, "Worker threads (0: all cores)")
       ->capture_default_str()
       ->check(within(0, 1024));
-  cmd.add_flag_callback(
-      "--no-free-space", [&fs = m.free_space] { fs.enabled = false; },
-      "Keep every point the LiDAR returned, even where later rays saw through it (moving traffic leaves trails)");
-  cmd.add_option("--free-space-range", m.free_space.max_range_m,
-                 "Free space: test map points up to this far from the sensor against each scan's rays (m)")
-      ->capture_default_str()
-      ->check(within(1.0, 500.0));
-  cmd.add_option("--free-space-lookback", m.free_space.lookback_frames,
-                 "Free space: test the points each frame adds against the rays of this many frames before (more: "
-                 "less of what oncoming traffic leaves behind, for more time and memory a frame)")
-      ->capture_default_str()
-      ->check(CLI::Range(0, 30));
-  cmd.add_option("--free-space-stride", m.free_space.old_voxel_stride,
-                 "Free space: test the map's older points in one voxel of every N each frame, in turn (fewer tests a "
-                 "frame; a trail takes a few frames longer to go)")
-      ->capture_default_str()
-      ->check(CLI::Range(1, 64));
+  addFreeSpaceFlags(cmd, m.free_space);
   cmd.add_flag_callback(
       "--no-hole-filling", [&holes = m.holes] { holes.enabled = false; },
       "Leave the final mesh's small holes open (the cracks along voxel borders on sparse ground)");

@@ -267,6 +267,7 @@ void FreeSpaceCarver::save(ArchiveWriter& out) const {
   out.section("free-space");
   out.value(static_cast<std::uint64_t>(earlier_.size()));
   for (const Sweep& sweep : earlier_) {
+    out.value(sweep.frame);
     out.value(sweep.R_L_W);
     out.value(sweep.t_L_W);
     sweep.image->save(out);
@@ -278,13 +279,14 @@ void FreeSpaceCarver::save(ArchiveWriter& out) const {
 void FreeSpaceCarver::load(ArchiveReader& in) {
   in.section("free-space");
   const auto count = static_cast<std::size_t>(in.value<std::uint64_t>());
-  if (count > static_cast<std::size_t>(std::max(params_.lookback_frames, 0))) {
+  if (count > static_cast<std::size_t>(std::max({params_.lookback_frames, params_.young_lookback_frames, 0}))) {
     in.fail("the checkpoint keeps " + std::to_string(count) + " earlier sweeps; this run looks back " +
-            std::to_string(params_.lookback_frames));
+            std::to_string(std::max(params_.lookback_frames, params_.young_lookback_frames)));
   }
   earlier_.clear();
   for (std::size_t k = 0; k < count; ++k) {
     Sweep& sweep = earlier_.emplace_back();
+    in.value(sweep.frame);
     in.value(sweep.R_L_W);
     in.value(sweep.t_L_W);
     sweep.image = newSweepImage();

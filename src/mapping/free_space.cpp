@@ -65,6 +65,7 @@ CarveStats FreeSpaceCarver::carve(const std::vector<Eigen::Vector3f>& points_L, 
   Stopwatch clock;
   if (!prepared_) prepare(points_L, T_W_L);
   prepared_ = false;  // what prepare() made is this frame's from here on
+  current_.frame = map.frame();
   Flags flags;
   stats.removed_by_vehicle = flagVehicleBox(T_W_L, map, flags);
   const std::array<const Sweep*, 1> now{&current_};
@@ -87,20 +88,38 @@ CarveStats FreeSpaceCarver::carve(const std::vector<Eigen::Vector3f>& points_L, 
   for (const std::uint32_t index : stats.voxels) map.removePoints(index, flags[index], stats.vertices);
   stats.removed_by_rays = stats.vertices.size() - stats.removed_by_vehicle;
   rememberRecent(sensor_W, map, active, created);
-  // This frame's rays become the newest earlier sweep (recycling the oldest's storage).
-  if (params_.lookback_frames > 0) {
-    Sweep next;
-    if (static_cast<int>(earlier_.size()) >= params_.lookback_frames) {
-      next = std::move(earlier_.back());
-      earlier_.pop_back();
-    } else {
-      next.image = newSweepImage();
-    }
-    std::swap(next, current_);
-    earlier_.push_front(std::move(next));
-  }
+  keepSweep();
   stats.ms = clock.elapsedMs();
   return stats;
+}
+
+void FreeSpaceCarver::keepSweep() {
+  // This frame's rays become the newest earlier sweep. Those older than lookback_frames stay for
+  // the young voxels only, every young_stride-th frame's up to young_lookback_frames back; the
+  // storage of one that goes is used for the next frame's.
+  const std::uint32_t frame = current_.frame;
+  const int longest = std::max(params_.lookback_frames, params_.young_lookback_frames);
+  if (longest <= 0) return;
+  const auto stride = static_cast<std::uint32_t>(std::max(1, params_.young_stride));
+  const auto stays = [&](const Sweep& s) {
+    const std::uint32_t age = frame + 1 - s.frame;  // at the next carve()
+    return !isOlder(s, frame + 1) || (age <= static_cast<std::uint32_t>(longest) && s.frame % stride == 0);
+  };
+  Sweep next;
+  for (auto it = earlier_.begin(); it != earlier_.end();) {
+    if (stays(*it)) {
+      // An older sweep is only looked past (seenPast), never through.
+      if (isOlder(*it, frame + 1)) it->image->forgetGrazing();
+      ++it;
+      continue;
+    }
+    if (!next.image) next = std::move(*it);
+    it = earlier_.erase(it);
+  }
+  if (!next.image) next.image = newSweepImage();
+  std::swap(next, current_);
+  current_.image->adoptScratch(*next.image);  // a kept sweep needs no room to build in
+  earlier_.push_front(std::move(next));
 }
 
 bool FreeSpaceCarver::usablePose(const Isometry3d& T_W_L) {
@@ -217,6 +236,8 @@ void FreeSpaceCarver::countMisses(std::span<const Sweep* const> sweeps, Tested t
   std::vector<std::vector<std::uint8_t>> removals(voxels.size());
   std::vector<std::pair<std::size_t, std::size_t>> counts(voxels.size());
   const std::uint32_t frame = map.frame();
+  // Whether some sweep is older than lookback_frames (keepSweep), for the young voxels alone.
+  const bool older = tested == Tested::kNew && !sweeps.empty() && isOlder(*sweeps.back(), frame);
   tbb::parallel_for(tbb::blocked_range<std::size_t>(0, voxels.size(), 64), [&](const auto& r) {
     for (std::size_t i = r.begin(); i < r.end(); ++i) {
       // The voxels lie scattered in memory: fetch a later one's while this one is tested, and the
@@ -228,7 +249,8 @@ void FreeSpaceCarver::countMisses(std::span<const Sweep* const> sweeps, Tested t
         __builtin_prefetch(ahead.points.data());
         __builtin_prefetch(ahead.evidence.data());
       }
-      counts[i] = countVoxel(sweeps, tested, frame, map.voxelAt(voxels[i]), removals[i]);
+      const bool young = older && youngAround(map, voxels[i]);
+      counts[i] = countVoxel(sweeps, tested, young, frame, map.voxelAt(voxels[i]), removals[i]);
     }
   });
   for (std::size_t i = 0; i < voxels.size(); ++i) {
@@ -245,7 +267,7 @@ void FreeSpaceCarver::countMisses(std::span<const Sweep* const> sweeps, Tested t
 }
 
 std::pair<std::size_t, std::size_t> FreeSpaceCarver::countVoxel(std::span<const Sweep* const> sweeps, Tested tested,
-                                                                std::uint32_t frame, Voxel& v,
+                                                                bool young, std::uint32_t frame, Voxel& v,
                                                                 std::vector<std::uint8_t>& remove) const {
   // Rays of this frame end in a voxel they hit, not behind it: its old points are not tested. A
   // trail is where the car was, which this frame's returns do not reach.
@@ -253,6 +275,11 @@ std::pair<std::size_t, std::size_t> FreeSpaceCarver::countVoxel(std::span<const 
   std::size_t count = 0;
   std::size_t seen = 0;
   std::optional<Eigen::Vector3f> n_W;  // the voxel's plane, once a point needs it
+  // Sweeps older than lookback_frames (the last ones, see keepSweep) test young voxels only.
+  std::size_t tested_sweeps = sweeps.size();
+  if (tested == Tested::kNew && !young) {
+    while (tested_sweeps > 0 && isOlder(*sweeps[tested_sweeps - 1], frame)) --tested_sweeps;
+  }
   const auto max_range = static_cast<float>(params_.max_range_m);
   const auto min_range = static_cast<float>(params_.min_return_range_m);
   for (std::size_t j = 0; j < v.points.size(); ++j) {
@@ -261,7 +288,7 @@ std::pair<std::size_t, std::size_t> FreeSpaceCarver::countVoxel(std::span<const 
     const bool recent = frame - e.last_hit <= static_cast<std::uint32_t>(std::max(params_.recent_frames, 0));
     if (tested == Tested::kNew ? !created : (confirmed(e) || e.last_hit == frame)) continue;
     std::optional<Lie> lie;  // how p lies, once a sweep tests it
-    for (const Sweep* sweep : sweeps) {
+    for (const Sweep* sweep : sweeps.first(tested_sweeps)) {
       const Eigen::Vector3f p_L = sweep->R_L_W * v.points[j] + sweep->t_L_W;
       const float r = p_L.norm();
       // Beyond max_range, only old points hit in one frame, one of the last recent_frames: what a
@@ -274,7 +301,13 @@ std::pair<std::size_t, std::size_t> FreeSpaceCarver::countVoxel(std::span<const 
         if (!seenFromFar(*sweep, p_L, *n_W)) continue;
       } else {
         if (!lie) lie = lieOf(v.points[j], *n_W);
-        if (!seenThrough(*sweep->image, p_L, sweep->R_L_W * *n_W, sweep->R_L_W.col(2), *lie, false)) continue;
+        // From farther back, a ray through a gap in a hedge seen only now would count: there every
+        // ray near p's direction must have gone on.
+        if (isOlder(*sweep, frame)) {
+          if (!seenPast(*sweep->image, p_L)) continue;
+        } else if (!seenThrough(*sweep->image, p_L, sweep->R_L_W * *n_W, sweep->R_L_W.col(2), *lie, false)) {
+          continue;
+        }
       }
       ++seen;
       if (e.misses < 255) ++e.misses;
@@ -286,6 +319,32 @@ std::pair<std::size_t, std::size_t> FreeSpaceCarver::countVoxel(std::span<const 
     }
   }
   return {count, seen};
+}
+
+bool FreeSpaceCarver::youngAround(const VoxelMap& map, std::uint32_t index) const {
+  const std::uint32_t frame = map.frame();
+  if (!isYoung(map.voxelAt(index), frame)) return false;
+  const VoxelKey& key = map.keyAt(index);
+  for (std::int32_t dz = 0; dz <= 1; ++dz) {
+    for (std::int32_t dx = -1; dx <= 1; ++dx) {
+      for (std::int32_t dy = -1; dy <= 1; ++dy) {
+        if (dx == 0 && dy == 0 && dz == 0) continue;
+        const std::uint32_t n = map.indexOf({key.x + dx, key.y + dy, key.z + dz});
+        if (n != VoxelMap::kNoVertex && !isYoung(map.voxelAt(n), frame)) return false;
+      }
+    }
+  }
+  return true;
+}
+
+bool FreeSpaceCarver::isOlder(const Sweep& sweep, std::uint32_t frame) const {
+  return frame - sweep.frame > static_cast<std::uint32_t>(std::max(params_.lookback_frames, 0));
+}
+
+bool FreeSpaceCarver::isYoung(const Voxel& v, std::uint32_t frame) const {
+  const auto window = static_cast<std::uint32_t>(std::max(params_.lookback_frames, 0));
+  return std::ranges::all_of(v.evidence,
+                             [&](const PointEvidence& e) { return frame - (e.last_hit - e.span) <= window; });
 }
 
 FreeSpaceCarver::Lie FreeSpaceCarver::lieOf(const Eigen::Vector3f& p_W, const Eigen::Vector3f& n_W) const {

@@ -22,8 +22,9 @@ inline constexpr const char* kCheckpointFile = "checkpoint.bin";
 inline constexpr const char* kResumeRecordFile = "checkpoint.json";  // RunParams::resume_record_json
 // Raised whenever what a checkpoint holds, or how, changes.
 // 2: point clouds keep per-point times; 3: tiles; 4: tiles loaded back (their count, state files);
-// 5: points keep the span of their hits, the carver its recent frames' voxels
-inline constexpr std::uint32_t kCheckpointVersion = 5;
+// 5: points keep the span of their hits, the carver its recent frames' voxels; 6: the carver's
+// sweeps keep their frame (older ones test young voxels)
+inline constexpr std::uint32_t kCheckpointVersion = 6;
 
 // Writes the header, then what `write_state` writes (streamed to the file), then its size and
 // checksum, atomically to `path`. Returns the state's size in bytes.
