@@ -5,14 +5,20 @@
 // whole street.) After every
 // frame the process's resident memory is sampled. Prints the resident memory at frames 1,000 and
 // the last, the peak, the per-frame time (median and p95) of the first 200 frames against the whole
-// run (with and without the time spent waiting for the simulator, which shares the cores), and
-// writes OUT/memory.csv (frame, resident MB, tiles in memory and written, each stage's time in ms)
-// and, where /usr/bin/python3 has matplotlib, OUT/memory.png (bench/plot_memory.py).
+// run (with and without the time spent waiting for the simulator), and writes OUT/memory.csv
+// (frame, resident MB, tiles in memory and written, each stage's time in ms) and, where
+// /usr/bin/python3 has matplotlib, OUT/memory.png (bench/plot_memory.py).
+//
+// The simulator makes a frame only once the one before is mapped (SimDataset's lockstep): run
+// alongside, as the pipeline's reader would, it took the cores from the mapping (0.13 s a frame of
+// simulation against 0.05 s of mapping) and stalled some frames' mapping by 130-200 ms. --overlap
+// lets it run alongside.
 //
 //   build/bench/memory_bench [--frames N] [--speed MPS] [--traffic none|street|drive0013] [--out DIR]
+//                            [--overlap]
 //
-// Takes about 0.2 s a frame on 2 cores (the simulator's camera is most of it): 3,000 frames about
-// 11 minutes, 1.5 GB at the peak (1 GB of it the simulator's street) with the map's tiles leaving
+// Takes about 0.25 s a frame on 2 cores (the simulator's camera is most of it): 3,000 frames about
+// 13 minutes, 1.5 GB at the peak (1 GB of it the simulator's street) with the map's tiles leaving
 // memory as the drive goes (the default).
 #include <fmt/format.h>
 
@@ -39,6 +45,7 @@ struct Options {
   double speed_mps = 17.0;
   std::string traffic = "drive0013";
   fs::path out = "out/memory-bench";
+  bool overlap = false;  // simulate the next frame while this one is mapped
 };
 
 bool parse(int argc, char** argv, Options& o) {
@@ -53,6 +60,8 @@ bool parse(int argc, char** argv, Options& o) {
       o.traffic = argv[++i];
     } else if (arg == "--out" && has_value) {
       o.out = argv[++i];
+    } else if (arg == "--overlap") {
+      o.overlap = true;
     } else {
       fmt::print(stderr, "unknown or incomplete option {}\n", arg);
       return false;
@@ -96,7 +105,7 @@ bool writeCsv(const fs::path& path, const std::vector<Sample>& samples, const pi
   return static_cast<bool>(csv);
 }
 
-// The frame's time without waiting for the simulator (its "read"), which shares the cores.
+// The frame's time without waiting for the simulator (its "read").
 pipeline::StageTimes mappingTimes(const pipeline::StageTimes& times) {
   pipeline::StageTimes out;
   const std::vector<double>& total_ms = times.samples("total");
@@ -107,7 +116,9 @@ pipeline::StageTimes mappingTimes(const pipeline::StageTimes& times) {
 
 // Resident memory at frame 1,000 (or the last) and the last, with and without the simulator's
 // share; the frame time over the first 200 frames and the whole run.
-void printFigures(const std::vector<Sample>& samples, const pipeline::RunReport& report, double sim_mb) {
+// `overlap`: the simulator ran alongside the mapping (else in lockstep, see above).
+void printFigures(const std::vector<Sample>& samples, const pipeline::RunReport& report, double sim_mb,
+                  bool overlap) {
   const auto rssAt = [&](std::size_t frame) {
     return samples[std::min(frame, samples.size()) - 1].rss_mb;
   };
@@ -129,7 +140,9 @@ void printFigures(const std::vector<Sample>& samples, const pipeline::RunReport&
                what, early, first.median_ms, first.p95_ms, report.frames, whole.median_ms, whole.p95_ms);
   };
   perFrame(report.times, "total", "the frame, reading included");
-  perFrame(mapping, "mapping", "without waiting for the simulator");
+  perFrame(mapping, "mapping",
+           overlap ? "without waiting for the simulator, which shares the cores"
+                   : "without waiting for the simulator, which waits meanwhile");
   fmt::print("{} vertices, {} faces\n", report.vertices, report.faces);
 }
 
@@ -159,6 +172,7 @@ int main(int argc, char** argv) {
     fmt::print(stderr, "{}\n", dataset.status().toString());
     return 1;
   }
+  (*dataset)->setLockstep(!o.overlap);
   const double street_m = (*dataset)->simulator().scene().length_m;
   const double sim_mb = pipeline::residentMb();
   fmt::print("simulated street: {:.1f} km, {} frames at {:.0f} m/s mean, traffic {}; scene built in {:.1f} s, "
@@ -170,11 +184,13 @@ int main(int argc, char** argv) {
   samples.reserve(static_cast<std::size_t>(o.frames));
   const auto progress = [&](std::size_t done, std::size_t total, const pipeline::RunReport& r) {
     samples.push_back({done, pipeline::residentMb(), r.tiles_in_memory, r.tiles_finished});
+    (*dataset)->framesMapped(done);
     if (done % 100 == 0 || done == total) {
       fmt::print(stderr, "frame {} of {}: {:.0f} MB resident\n", done, total, samples.back().rss_mb);
     }
   };
   pipeline::RunParams run;
+  run.texture = true;  // as `artemis run` on a recording with a camera
   Stopwatch clock;
   auto report = pipeline::runPipeline(**dataset, run, o.out / "run", "{}\n", progress);
   if (!report) {
@@ -185,7 +201,7 @@ int main(int argc, char** argv) {
     fmt::print(stderr, "cannot write {}\n", (o.out / "memory.csv").string());
     return 1;
   }
-  printFigures(samples, *report, sim_mb);
+  printFigures(samples, *report, sim_mb, o.overlap);
   fmt::print("{:.0f} s in all; {}\n", clock.elapsedS(), (o.out / "memory.csv").string());
   const fs::path script = fs::path(ARTEMIS_SOURCE_DIR) / "bench" / "plot_memory.py";
   const std::string command = fmt::format("/usr/bin/python3 {} {} {}", script.string(),

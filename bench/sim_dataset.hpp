@@ -3,8 +3,11 @@
 // so that a benchmark can drive the whole pipeline down a street of any length without writing
 // the recording to disk first. Poses are the simulator's exact ones.
 
+#include <chrono>
+#include <condition_variable>
 #include <filesystem>
 #include <memory>
+#include <mutex>
 #include <string>
 #include <utility>
 #include <vector>
@@ -34,9 +37,29 @@ class SimDataset final : public datasets::Dataset {
   }
   [[nodiscard]] const sim::Simulator& simulator() const { return sim_; }
 
+  // In lockstep, recording frame i is made only once framesMapped(i) was told: the pipeline's
+  // reader, which reads the next frame while the current one is mapped, then waits instead of
+  // simulating on the cores the mapping uses (a frame costs the simulator more than it costs the
+  // mapping). A frame never reported (one that failed) holds the next back for at most kLockstepWait.
+  void setLockstep(bool on) {
+    const std::lock_guard lock(mutex_);
+    lockstep_ = on;
+  }
+  void framesMapped(std::size_t done) {
+    {
+      const std::lock_guard lock(mutex_);
+      mapped_ = done;
+    }
+    mapped_changed_.notify_all();
+  }
+
  protected:
   [[nodiscard]] Result<Frame> readFrame(std::size_t recording_index) const override {
     const int i = static_cast<int>(recording_index);
+    {
+      std::unique_lock lock(mutex_);
+      mapped_changed_.wait_for(lock, kLockstepWait, [&] { return !lockstep_ || mapped_ >= recording_index; });
+    }
     Frame frame;
     frame.index = recording_index;
     frame.stamp_s = sim_.stamp_s(i);
@@ -65,8 +88,13 @@ class SimDataset final : public datasets::Dataset {
     has_poses_ = true;
   }
 
+  static constexpr std::chrono::seconds kLockstepWait{60};
   sim::Simulator sim_;
   std::filesystem::path root_;
+  mutable std::mutex mutex_;
+  mutable std::condition_variable mapped_changed_;
+  bool lockstep_ = false;
+  std::size_t mapped_ = 0;  // frames mapped so far (framesMapped)
 };
 
 }  // namespace artemis::bench
