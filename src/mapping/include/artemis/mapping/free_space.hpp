@@ -85,8 +85,8 @@
 // Older frames look at what appears where nothing was. Once an oncoming car has passed, its back
 // and sides stand where the rays of the frames from before it came went on to the road, 5-30 frames
 // back; the last lookback_frames frames still saw the car there. So the points a frame creates in a
-// young voxel (all of its points, and those of the voxels beside and above it, came in the last
-// lookback_frames frames) are also tested against the rays of every young_stride-th frame up to
+// young voxel (all of its points, and those of the voxels beside and above it, came in this frame
+// or the lookback_frames before it) are also tested against the rays of every young_stride-th frame up to
 // young_lookback_frames back: a miss where every return within 0.25 deg of the point's direction
 // ended beyond it (seenPast), not where one ray slipped by. A hedge or a fence seen only now has
 // older neighbours, or rays that ended on it, and keeps its points. Only the last lookback_frames
@@ -223,7 +223,7 @@ class FreeSpaceCarver {
   void keepSweep();
   // Whether `sweep` is older than lookback_frames at `frame` (kept for the young voxels alone).
   [[nodiscard]] bool isOlder(const Sweep& sweep, std::uint32_t frame) const;
-  // Whether all of v's points came in the last lookback_frames frames before `frame`.
+  // Whether all of v's points came in `frame` or the lookback_frames frames before it.
   [[nodiscard]] bool isYoung(const Voxel& v, std::uint32_t frame) const;
   // Whether voxel `index` is young, and so are those beside and above it that hold points.
   [[nodiscard]] bool youngAround(const VoxelMap& map, std::uint32_t index) const;
