@@ -86,12 +86,12 @@
 // and sides stand where the rays of the frames from before it came went on to the road, 5-30 frames
 // back; the last lookback_frames frames still saw the car there. So the points a frame creates in a
 // young voxel (all of its points, and those of the voxels beside and above it, came in this frame
-// or the lookback_frames before it) are also tested against the rays of every young_stride-th frame up to
-// young_lookback_frames back: a miss where every return within 0.25 deg of the point's direction
-// ended beyond it (seenPast), not where one ray slipped by. A hedge or a fence seen only now has
-// older neighbours, or rays that ended on it, and keeps its points. Only the last lookback_frames
-// sweeps are asked about grazing incidence, so the older ones keep their returns and bins alone
-// (about 4 MB a sweep of 120,000 returns).
+// or the lookback_frames before it) are also tested against the rays of every young_stride-th
+// frame up to young_lookback_frames back: a miss where every return within 0.25 deg of the point's
+// direction ended beyond it (seenPast), not where one ray slipped by. A hedge or a fence seen only
+// now has older neighbours, or rays that ended on it, and keeps its points. Only the last
+// lookback_frames sweeps are asked about grazing incidence, so the older ones keep their returns and
+// bins alone (about 4 MB a sweep of 120,000 returns).
 //
 // On the simulated street with its traffic (`--traffic street`, oncoming cars at 11 m/s, 150
 // frames) the span and the first far rule (a crossing ray only, upright voxels only) took the rays
