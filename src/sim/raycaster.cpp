@@ -10,6 +10,26 @@
 
 namespace artemis::sim::detail {
 
+namespace {
+
+static_assert(sizeof(Eigen::Vector3f) == 3 * sizeof(float) &&
+              sizeof(std::array<std::uint32_t, 3>) == 3 * sizeof(unsigned));
+
+// Embree reads each vertex with a 16-byte load, so the last one needs 4 bytes after it: the
+// mesh's own vertices are shared when their vector has room for them, else copied.
+void setVertices(RTCGeometry geometry, const std::vector<Eigen::Vector3f>& vertices) {
+  if (vertices.capacity() > vertices.size()) {
+    rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3, vertices.data(), 0,
+                               sizeof(vertices[0]), vertices.size());
+    return;
+  }
+  auto* copy = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
+                                                           3 * sizeof(float), vertices.size()));
+  for (std::size_t i = 0; i < vertices.size(); ++i) std::memcpy(copy + 3 * i, vertices[i].data(), 3 * sizeof(float));
+}
+
+}  // namespace
+
 struct Raycaster::Impl {
   RTCDevice device = nullptr;
   RTCScene scene = nullptr;
@@ -20,18 +40,17 @@ Raycaster::Raycaster(const SceneMesh& mesh) : impl_(std::make_unique<Impl>()) {
   if (impl_->device == nullptr) throw std::runtime_error("Embree: cannot create a device");
   impl_->scene = rtcNewScene(impl_->device);
   // Robust traversal: rays along shared edges of the tessellated ground must not slip through.
-  rtcSetSceneFlags(impl_->scene, RTC_SCENE_FLAG_ROBUST);
+  // Compact: the hierarchy's leaves index the shared vertices instead of copying them. A 5 km
+  // street (9.5 million faces) takes 624 MB, against 862 MB without and 1,031 MB with the mesh
+  // copied as well; simulating is about 5 % slower.
+  rtcSetSceneFlags(impl_->scene, RTC_SCENE_FLAG_ROBUST | RTC_SCENE_FLAG_COMPACT);
   rtcSetSceneBuildQuality(impl_->scene, RTC_BUILD_QUALITY_HIGH);
 
   RTCGeometry geometry = rtcNewGeometry(impl_->device, RTC_GEOMETRY_TYPE_TRIANGLE);
-  auto* vertices = static_cast<float*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_VERTEX, 0, RTC_FORMAT_FLOAT3,
-                                                               3 * sizeof(float), mesh.vertices.size()));
-  for (std::size_t i = 0; i < mesh.vertices.size(); ++i)
-    std::memcpy(vertices + 3 * i, mesh.vertices[i].data(), 3 * sizeof(float));
-  auto* indices = static_cast<unsigned*>(rtcSetNewGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3,
-                                                                 3 * sizeof(unsigned), mesh.triangles.size()));
-  for (std::size_t i = 0; i < mesh.triangles.size(); ++i)
-    std::memcpy(indices + 3 * i, mesh.triangles[i].data(), 3 * sizeof(unsigned));
+  setVertices(geometry, mesh.vertices);
+  // A long street has millions of faces: Embree reads the mesh's own indices rather than a copy.
+  rtcSetSharedGeometryBuffer(geometry, RTC_BUFFER_TYPE_INDEX, 0, RTC_FORMAT_UINT3, mesh.triangles.data(), 0,
+                             sizeof(mesh.triangles[0]), mesh.triangles.size());
   rtcCommitGeometry(geometry);
   rtcAttachGeometry(impl_->scene, geometry);
   rtcReleaseGeometry(geometry);

@@ -21,6 +21,9 @@ struct Hit {
 
 class Raycaster {
  public:
+  // Reads the mesh's vertices and faces in place, so the mesh must outlive the caster unchanged.
+  // Its vertices are copied unless their vector's capacity exceeds its size (Embree reads 4 bytes
+  // past the last one).
   explicit Raycaster(const SceneMesh& mesh);
   ~Raycaster();
   Raycaster(const Raycaster&) = delete;
