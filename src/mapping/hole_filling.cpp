@@ -7,6 +7,7 @@
 #include <cstdint>
 #include <numbers>
 #include <optional>
+#include <stdexcept>
 #include <unordered_set>
 
 #include <Eigen/Geometry>
@@ -25,11 +26,18 @@ std::uint64_t edgeKey(std::uint32_t from, std::uint32_t to) {
 }
 
 // A face's edge, keyed by its two vertices (smaller first) so that both directions sort together.
+// Twelve bytes rather than sixteen: the run's finish indexes every face still in memory.
 struct HalfEdge {
-  std::uint64_t key;
-  std::uint32_t face;
-  bool forward;  // runs from the smaller vertex to the larger
-  bool operator<(const HalfEdge& o) const { return key < o.key; }
+  std::uint32_t lo;
+  std::uint32_t hi;
+  std::uint32_t face_forward;  // face << 1, | 1 when the edge runs from lo to hi
+
+  HalfEdge(std::uint32_t lo_vertex, std::uint32_t hi_vertex, std::uint32_t face, bool forward)
+      : lo(lo_vertex), hi(hi_vertex), face_forward((face << 1) | (forward ? 1u : 0u)) {}
+  [[nodiscard]] std::uint32_t face() const { return face_forward >> 1; }
+  [[nodiscard]] bool forward() const { return (face_forward & 1u) != 0; }
+  [[nodiscard]] bool sameEdge(const HalfEdge& o) const { return lo == o.lo && hi == o.hi; }
+  bool operator<(const HalfEdge& o) const { return lo != o.lo ? lo < o.lo : hi < o.hi; }
 };
 
 struct BoundaryEdge {
@@ -65,14 +73,14 @@ class HoleFiller {
  private:
   // Every face's three edges, sorted by their vertex pair.
   void indexHalfEdges() {
+    if (faces_.size() >= (std::size_t{1} << 31)) throw std::length_error("hole filling: too many faces");
     half_edges_.reserve(faces_.size() * 3);
     for (std::size_t f = 0; f < faces_.size(); ++f) {
       const Face& t = faces_[f];
       for (std::size_t k = 0; k < 3; ++k) {
         const std::uint32_t from = t[k];
         const std::uint32_t to = t[(k + 1) % 3];
-        half_edges_.push_back(
-            {edgeKey(std::min(from, to), std::max(from, to)), static_cast<std::uint32_t>(f), from < to});
+        half_edges_.emplace_back(std::min(from, to), std::max(from, to), static_cast<std::uint32_t>(f), from < to);
       }
     }
     tbb::parallel_sort(half_edges_.begin(), half_edges_.end());
@@ -80,10 +88,10 @@ class HoleFiller {
 
   // Whether a face of the mesh has the edge from -> to.
   [[nodiscard]] bool inMesh(std::uint32_t from, std::uint32_t to) const {
-    const std::uint64_t key = edgeKey(std::min(from, to), std::max(from, to));
-    for (auto it = std::lower_bound(half_edges_.begin(), half_edges_.end(), HalfEdge{key, 0, false});
-         it != half_edges_.end() && it->key == key; ++it) {
-      if (it->forward == (from < to)) return true;
+    const HalfEdge edge(std::min(from, to), std::max(from, to), 0, false);
+    for (auto it = std::lower_bound(half_edges_.begin(), half_edges_.end(), edge);
+         it != half_edges_.end() && it->sameEdge(edge); ++it) {
+      if (it->forward() == (from < to)) return true;
     }
     return false;
   }
@@ -94,12 +102,10 @@ class HoleFiller {
   void findBoundary() {
     for (std::size_t i = 0; i < half_edges_.size();) {
       std::size_t j = i + 1;
-      while (j < half_edges_.size() && half_edges_[j].key == half_edges_[i].key) ++j;
+      while (j < half_edges_.size() && half_edges_[j].sameEdge(half_edges_[i])) ++j;
       const HalfEdge& e = half_edges_[i];
-      const auto lo = static_cast<std::uint32_t>(e.key >> 32);
-      const auto hi = static_cast<std::uint32_t>(e.key & 0xFFFFFFFFu);
-      if (j == i + 1 && lo != hi)
-        boundary_.push_back(e.forward ? BoundaryEdge{lo, hi, e.face} : BoundaryEdge{hi, lo, e.face});
+      if (j == i + 1 && e.lo != e.hi)
+        boundary_.push_back(e.forward() ? BoundaryEdge{e.lo, e.hi, e.face()} : BoundaryEdge{e.hi, e.lo, e.face()});
       i = j;
     }
     std::sort(boundary_.begin(), boundary_.end(), [](const BoundaryEdge& a, const BoundaryEdge& b) {
