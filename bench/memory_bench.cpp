@@ -78,12 +78,14 @@ bool parse(int argc, char** argv, Options& o) {
 struct Sample {
   std::size_t frame = 0;
   double rss_mb = 0.0;
+  double peak_mb = 0.0;             // the process's peak so far
   std::size_t tiles_in_memory = 0;  // at the run's last look for finished tiles
   std::size_t tiles_written = 0;    // so far
 };
 
-// `sim_mb`: the resident memory before the run (mostly the simulator's street), on every row; the
-// tiles in memory at the run's last look and written so far.
+// `peak_mb`: the process's peak resident memory so far (a step at a frame whose work peaked above
+// what it left); `sim_mb`: the resident memory before the run (mostly the simulator's street), on
+// every row; the tiles in memory at the run's last look and written so far.
 // Then one column per stage the run timed a frame at a time (`total` and `read` among them; the
 // stages that time views rather than frames, such as `revisit`, are left out).
 bool writeCsv(const fs::path& path, const std::vector<Sample>& samples, const pipeline::StageTimes& times,
@@ -93,12 +95,12 @@ bool writeCsv(const fs::path& path, const std::vector<Sample>& samples, const pi
     if (times.samples(stage).size() == samples.size()) stages.push_back(stage);
   }
   std::ofstream csv(path);
-  csv << "frame,rss_mb,sim_mb,tiles_in_memory,tiles_written";
+  csv << "frame,rss_mb,peak_mb,sim_mb,tiles_in_memory,tiles_written";
   for (const std::string& stage : stages) csv << ',' << stage << "_ms";
   csv << '\n';
   for (std::size_t i = 0; i < samples.size(); ++i) {
-    csv << fmt::format("{},{:.1f},{:.1f},{},{}", samples[i].frame, samples[i].rss_mb, sim_mb,
-                       samples[i].tiles_in_memory, samples[i].tiles_written);
+    csv << fmt::format("{},{:.1f},{:.1f},{:.1f},{},{}", samples[i].frame, samples[i].rss_mb, samples[i].peak_mb,
+                       sim_mb, samples[i].tiles_in_memory, samples[i].tiles_written);
     for (const std::string& stage : stages) csv << fmt::format(",{:.2f}", times.samples(stage)[i]);
     csv << '\n';
   }
@@ -183,7 +185,7 @@ int main(int argc, char** argv) {
   std::vector<Sample> samples;
   samples.reserve(static_cast<std::size_t>(o.frames));
   const auto progress = [&](std::size_t done, std::size_t total, const pipeline::RunReport& r) {
-    samples.push_back({done, pipeline::residentMb(), r.tiles_in_memory, r.tiles_finished});
+    samples.push_back({done, pipeline::residentMb(), pipeline::peakRssMb(), r.tiles_in_memory, r.tiles_finished});
     (*dataset)->framesMapped(done);
     if (done % 100 == 0 || done == total) {
       fmt::print(stderr, "frame {} of {}: {:.0f} MB resident\n", done, total, samples.back().rss_mb);
