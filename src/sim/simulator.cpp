@@ -111,8 +111,8 @@ Simulator::Simulator(const SimParams& params) : params_(params) {
   const double end_x =
       params_.trajectory.start_x_m + detail::egoDistanceAt(params_.trajectory, stamp_s(params_.frames - 1));
   scene_ = generateScene(params_.scene, end_x + params_.trajectory.start_x_m);
-  movers_ = planTraffic(params_, scene_);
   scene_.mesh.vertices.reserve(scene_.mesh.vertices.size() + 1);  // so that the ray caster shares them
+  movers_ = planTraffic(params_, scene_);
   tracer_ = std::make_unique<Tracer>(scene_.mesh, movers_);
 
   const KittiCalibration& c = kittiCalibration();
