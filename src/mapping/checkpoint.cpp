@@ -292,6 +292,10 @@ void FreeSpaceCarver::load(ArchiveReader& in) {
     sweep.image = newSweepImage();
     sweep.image->load(in);
   }
+  // As keepSweep() left them: the sweeps past lookback_frames at the next carve() keep no grazing.
+  for (Sweep& sweep : earlier_) {
+    if (isOlder(sweep, earlier_.front().frame + 1)) sweep.image->forgetGrazing();
+  }
   const auto recent = static_cast<std::size_t>(in.value<std::uint64_t>());
   if (recent > static_cast<std::size_t>(std::max(params_.recent_frames, 0))) {
     in.fail("the checkpoint keeps the voxels of " + std::to_string(recent) + " recent frames; this run keeps " +
