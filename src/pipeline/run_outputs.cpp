@@ -117,6 +117,8 @@ std::string timingJson(const RunReport& report) {
   const StageSummary total = report.times.summary("total");
   stages["total"] = {{"median_ms", total.median_ms}, {"p95_ms", total.p95_ms}, {"max_ms", total.max_ms}};
   j["stages"] = stages;
+  const StageSummary cpu = report.times.summary("cpu");
+  j["cpu"] = {{"median_ms", cpu.median_ms}, {"p95_ms", cpu.p95_ms}, {"max_ms", cpu.max_ms}};
   j["finish_ms"] = report.finish_ms;
   j["peak_rss_mb"] = report.peak_rss_mb;
   j["page_faults"] = report.page_faults;

@@ -2,12 +2,14 @@
 // independence, and a damaged frame skipped and counted.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <nlohmann/json.hpp>
 #include <set>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include "artemis/datasets/dataset.hpp"
@@ -88,6 +90,12 @@ TEST(RunPipeline, WritesMeshTrajectoryConfigAndTiming) {
     EXPECT_LE(timing["stages"][stage]["median_ms"].get<double>(), timing["stages"][stage]["p95_ms"].get<double>());
   }
   EXPECT_GT(timing["peak_rss_mb"].get<double>(), 10.0);
+  // The frames' CPU time on all threads: some, and no more than every core busy all the frame.
+  const double cpu_ms = timing["cpu"]["median_ms"].get<double>();
+  EXPECT_GT(cpu_ms, 0.0);
+  EXPECT_LE(
+      timing["cpu"]["max_ms"].get<double>(),
+      std::max(1u, std::thread::hardware_concurrency()) * timing["stages"]["total"]["max_ms"].get<double>() + 1.0);
 }
 
 TEST(Timing, ResidentMemoryCountsWhatIsTouched) {

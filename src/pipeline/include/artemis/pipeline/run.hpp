@@ -13,7 +13,8 @@
 //   <out>/registration.json  with pose refinement: per frame, what ICP did (see registrationJson)
 //   <out>/config.json     the effective settings (given by the caller)
 //   <out>/timing.json     {"frames": N, "stages": {"<stage>": {"median_ms", "p95_ms", "max_ms"}, ...,
-//                          "total": {...}}, "finish_ms", "peak_rss_mb", "page_faults", "frames_failed",
+//                          "total": {...}}, "cpu": {...} (all threads' CPU time while each frame was
+//                          mapped), "finish_ms", "peak_rss_mb", "page_faults", "frames_failed",
 //                          "points_in_vehicle_path", "points_carved", "holes_filled", "checkpoints":
 //                          {"written", "last_mb", "max_ms", "resumed_at_frame"}}
 // Every file is written atomically.

@@ -43,5 +43,7 @@ double peakRssMb();
 double residentMb();
 // Page faults this process took so far (minor and major: each a page the kernel provided).
 std::uint64_t pageFaults();
+// CPU time this process's threads have used so far, all of them together (ms).
+double processCpuMs();
 
 }  // namespace artemis::pipeline
