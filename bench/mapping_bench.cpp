@@ -4,7 +4,9 @@
 // accuracy against the reference cloud built from the same scans and poses, beside Open3D's
 // Poisson reconstruction (the paper's "Poi" baseline) scored by the same evaluator.
 //
-//   build/bench/mapping_bench [--no-poisson] [--threads N]
+//   build/bench/mapping_bench [--no-poisson] [--threads N] [--texture]
+// --texture: the whole pipeline as `artemis run` maps the drive by default, with the camera images
+// and texture refinement (every 5th view held out, as `artemis eval texture` scores it).
 // Data: $ARTEMIS_DATA_DIR/kitti_raw (default ../shared/data/kitti_raw).
 #include <fmt/format.h>
 
@@ -56,9 +58,11 @@ int main(int argc, char** argv) {
   artemis::useTunedAllocator(argv);  // as the artemis program runs (core/allocator.hpp)
   bool poisson = true;
   int threads = 0;
+  bool texture = false;
   for (int i = 1; i < argc; ++i) {
     const std::string arg = argv[i];
     if (arg == "--no-poisson") poisson = false;
+    if (arg == "--texture") texture = true;
     if (arg == "--threads" && i + 1 < argc) threads = std::atoi(argv[++i]);
   }
   const fs::path raw = dataDir() / "kitti_raw";
@@ -69,7 +73,7 @@ int main(int argc, char** argv) {
   }
   datasets::DatasetOptions options;
   options.frames = {0, 50};
-  options.load_images = false;
+  options.load_images = texture;
   auto dataset = datasets::openDataset(raw, datasets::DatasetFormat::kAuto, options);
   if (!dataset) {
     fmt::print(stderr, "{}\n", dataset.status().toString());
@@ -83,6 +87,8 @@ int main(int argc, char** argv) {
   const fs::path out = fs::temp_directory_path() / fmt::format("artemis-mapping-bench-{}", ::getpid());
   pipeline::RunParams params;
   params.mapper.threads = threads;
+  params.texture = texture;
+  params.texture_holdout = texture ? 5 : 0;
   Stopwatch clock;
   auto report = pipeline::runPipeline(**dataset, params, out, "{}\n");
   if (!report) {
@@ -90,7 +96,8 @@ int main(int argc, char** argv) {
     return 1;
   }
   const double run_s = clock.elapsedS();
-  fmt::print("ARTEMIS on kitti_raw frames 0-49 ({} frames, reference poses), {} threads\n", report->frames,
+  fmt::print("ARTEMIS on kitti_raw frames 0-49 ({} frames, reference poses{}), {} threads\n", report->frames,
+             texture ? ", texture on, every 5th view held out" : "",
              threads == 0 ? std::string("all") : std::to_string(threads));
   const auto row = [&](const char* stage, std::size_t a, std::size_t b) {
     const auto s = report->times.summary(stage, a, b);
@@ -100,7 +107,7 @@ int main(int argc, char** argv) {
   for (std::size_t i = 0; i < report->frames; ++i) {
     report->times.add("geometry", report->times.samples("insert")[i] + report->times.samples("mesh")[i]);
   }
-  for (const char* stage : {"read", "insert", "carve", "mesh", "constrain", "geometry", "total"}) {
+  for (const char* stage : {"read", "insert", "carve", "mesh", "constrain", "refine", "revisit", "geometry", "total"}) {
     if (!report->times.samples(stage).empty()) row(stage, 0, report->frames);
   }
   // The work of a frame on all threads: on N cores no frame can take less than this over N.
